@@ -1,0 +1,12 @@
+"""peenflow: shot-peening residual stresses from Almen intensity and coverage.
+
+Layers (one folder each):
+
+* ``peenflow.fe``      -- the numba FE/DEM impact kernel (arrays in, arrays out, SI units)
+* ``peenflow.methods`` -- the paper's post-processing maths (coverage, arc height, fits)
+* ``peenflow.engine``  -- the generic cached, resumable task DAG (knows nothing of peening)
+* ``peenflow.study``   -- study-file schema, validation and the material/shot library
+* ``tasks``            -- one module per methodology stage: study params -> kernel -> Dataset
+"""
+
+__version__ = "0.1.0"

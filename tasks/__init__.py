@@ -1,0 +1,1 @@
+"""Methodology stages: one module per stage, each a registered peenflow task."""
