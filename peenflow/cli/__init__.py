@@ -1,1 +1,47 @@
-"""cli"""
+"""The ``peenflow`` command: one verb per module.
+
+    peenflow run STUDY [--until STAGE] [--dry-run] [--workers N] [--scheduler ADDR] [--store PATH]
+    peenflow status STUDY [--why]
+    peenflow rerun STUDY STAGE
+    peenflow show STUDY STAGE
+    peenflow check STUDY
+    peenflow clean STUDY [--dry-run]
+    peenflow unlock STUDY [KEY ... | --all]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from . import check, clean, rerun, run, show, status, unlock
+
+VERBS = [run, status, rerun, show, check, clean, unlock]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="peenflow", description=__doc__.split("\n")[0])
+    sub = parser.add_subparsers(dest="verb", required=True, metavar="VERB")
+    for verb in VERBS:
+        p = sub.add_parser(verb.NAME, help=verb.HELP, description=verb.__doc__)
+        verb.add_arguments(p)
+        p.set_defaults(handler=verb.main)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    from ._common import UserError
+
+    try:
+        return int(args.handler(args) or 0)
+    except UserError as exc:
+        print(f"peenflow {args.verb}: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("\ninterrupted: finished results are kept; rerun to resume", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,44 @@
+"""The Python API for analysis.
+
+    >>> import peenflow
+    >>> ds = peenflow.open_result("studies/quickstart.toml", "saturation")
+    >>> ds.intensity_mm.sel(angle_deg=90).plot()
+
+Results are plain xarray Datasets; the store can also be read with
+``xr.open_dataset`` directly (``peenflow show`` prints the file paths).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import xarray as xr
+
+from .engine import DirectoryStore, Graph, load_graph, stage_result
+
+DEFAULT_PIPELINE = "tasks.pipeline:build_graph"
+STORE_ENV = "PEENFLOW_STORE"
+
+
+def default_store_path(study_path: str | os.PathLike) -> Path:
+    """``$PEENFLOW_STORE`` if set, else ``.peenflow/`` beside the study file."""
+    env = os.environ.get(STORE_ENV)
+    if env:
+        return Path(env)
+    return Path(study_path).resolve().parent / ".peenflow"
+
+
+def load_study_graph(study_path: str | os.PathLike) -> Graph:
+    return load_graph(Path(study_path), DEFAULT_PIPELINE)
+
+
+def open_store(study_path, store: str | os.PathLike | None = None) -> DirectoryStore:
+    return DirectoryStore(store if store is not None else default_store_path(study_path))
+
+
+def open_result(study_path: str | os.PathLike, stage: str, store: str | os.PathLike | None = None,
+                allow_partial: bool = False) -> xr.Dataset:
+    """A stage's results as one Dataset (a swept stage combined along its sweep dims)."""
+    graph = load_study_graph(study_path)
+    return stage_result(graph, open_store(study_path, store), stage, allow_partial=allow_partial)

@@ -1,0 +1,46 @@
+"""Run a study: compute what is missing or changed, reuse the rest."""
+
+from __future__ import annotations
+
+from ..engine import Reporter, execute
+from ._common import add_study, load, stage_nodes
+from .status import print_plan
+
+NAME = "run"
+HELP = "run a study (resumes: finished results are reused)"
+
+
+def add_arguments(p) -> None:
+    add_study(p)
+    add_execution(p)
+    p.add_argument("--until", metavar="STAGE", help="run only this stage and what it needs")
+
+
+def add_execution(p) -> None:
+    p.add_argument("--dry-run", action="store_true", help="show what would be computed, and why")
+    p.add_argument("--workers", type=int, default=None, help="parallel points (default: all cores)")
+    p.add_argument("--threads", type=int, default=None,
+                   help="compute threads per point (default: cores // workers)")
+    p.add_argument("--scheduler", metavar="ADDR", default=None,
+                   help="dask.distributed scheduler, e.g. tcp://host:8786 (store must be shared)")
+    p.add_argument("--quiet", action="store_true", help="only the summary")
+
+
+def execute_and_report(args, graph, store, nodes, forced=frozenset()) -> int:
+    if args.dry_run:
+        print_plan(graph, store, nodes, forced, why=True)
+        return 0
+    reporter = Reporter(quiet=args.quiet)
+    reporter.line(f"study {graph.name}: {len(nodes)} points, store {store.root}")
+    outcomes = execute(graph, store, nodes, forced=set(forced), scheduler=args.scheduler,
+                       workers=args.workers, threads=args.threads, reporter=reporter)
+    reporter.line("")
+    reporter.line(reporter.summary())
+    bad = [o for o in outcomes if not o.ok]
+    return 1 if bad else 0
+
+
+def main(args) -> int:
+    graph, store = load(args)
+    nodes = graph.ancestors(stage_nodes(graph, args.until)) if args.until else list(graph.nodes)
+    return execute_and_report(args, graph, store, nodes)

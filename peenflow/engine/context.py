@@ -1,0 +1,59 @@
+"""What a running task may ask of the engine: progress and checkpoints.
+
+A task function that declares a ``ctx`` keyword receives a
+:class:`TaskContext`.  Both services write through the store, so they work
+the same on the local scheduler and on a dask.distributed cluster sharing
+the store directory.
+"""
+
+from __future__ import annotations
+
+import time
+
+import xarray as xr
+
+from .checkpoint import Checkpoints
+
+
+class TaskContext:
+    """Handed to a task as ``ctx``.
+
+    Attributes: ``key`` (result key), ``point`` (e.g. ``strip_runs[angle_deg=45]``),
+    ``threads`` (compute threads this task may use without oversubscribing the
+    machine), ``resumed`` (True when a checkpoint was found at start).
+    """
+
+    PROGRESS_INTERVAL_S = 1.0
+
+    def __init__(self, store, key: str, point: str, study: str, threads: int):
+        self.key = key
+        self.point = point
+        self.study = study
+        self.threads = threads
+        self._store = store
+        self._checkpoints = Checkpoints(store.checkpoint_dir(key))
+        self._last_progress = 0.0
+        self.resumed = self._checkpoints.exists()
+
+    def progress(self, done: float, total: float | None = None, unit: str = "", note: str = "") -> None:
+        """Report progress (throttled to about once a second; the last call always lands)."""
+        now = time.time()
+        final = total is not None and done >= total
+        if not final and now - self._last_progress < self.PROGRESS_INTERVAL_S:
+            return
+        self._last_progress = now
+        self._store.write_progress(self.key, {
+            "study": self.study, "point": self.point, "done": done, "total": total,
+            "unit": unit, "note": note, "time": now,
+        })
+
+    def load_checkpoint(self) -> xr.Dataset | None:
+        """The last saved checkpoint of this key, or None."""
+        return self._checkpoints.load()
+
+    def save_checkpoint(self, state: xr.Dataset) -> None:
+        """Save intermediate state atomically; a later run with the same key resumes from it."""
+        self._checkpoints.save(state)
+
+    def clear_checkpoint(self) -> None:
+        self._checkpoints.clear()

@@ -1,0 +1,81 @@
+"""Code fingerprints that ignore cosmetic edits.
+
+A result key includes a fingerprint of the code that made it, so that a
+change in the physics invalidates results.  Numba's own disk cache only
+notices edits to the file of the compiled function, not to the modules it
+calls, so we fingerprint whole modules and packages ourselves.
+
+The fingerprint is a hash of the module's abstract syntax tree with
+docstrings removed: comments, blank lines, formatting and docstrings do not
+change it, so fixing a typo in a docstring does not throw away hours of
+results.  Line numbers are not part of ``ast.dump`` output by default.
+"""
+
+from __future__ import annotations
+
+import ast
+import functools
+import importlib
+import inspect
+from pathlib import Path
+
+from .canonical import digest
+
+
+def _strip_docstrings(tree: ast.AST) -> ast.AST:
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
+            body = node.body
+            if (
+                body
+                and isinstance(body[0], ast.Expr)
+                and isinstance(body[0].value, ast.Constant)
+                and isinstance(body[0].value.value, str)
+            ):
+                node.body = body[1:] or [ast.Pass()]
+    return tree
+
+
+def source_fingerprint(source: str) -> str:
+    """Fingerprint of Python source text, blind to comments/docstrings/layout."""
+    tree = _strip_docstrings(ast.parse(source))
+    return digest(ast.dump(tree, annotate_fields=True, include_attributes=False))
+
+
+@functools.lru_cache(maxsize=None)
+def _file_fingerprint(path: str, mtime_ns: int, size: int) -> str:
+    return source_fingerprint(Path(path).read_text(encoding="utf-8"))
+
+
+def file_fingerprint(path: Path) -> str:
+    st = path.stat()
+    return _file_fingerprint(str(path), st.st_mtime_ns, st.st_size)
+
+
+def module_fingerprint(module_name: str) -> str:
+    """Fingerprint of a module, or of every ``.py`` file of a package.
+
+    Files are visited in sorted order of their path *relative to the
+    package*, so the result does not depend on where the package is
+    installed.
+    """
+    module = importlib.import_module(module_name)
+    origin = getattr(module, "__file__", None)
+    if origin is None:
+        raise ValueError(f"module {module_name!r} has no source file to fingerprint")
+    origin_path = Path(origin)
+    if origin_path.name == "__init__.py":
+        root = origin_path.parent
+        parts = []
+        for f in sorted(root.rglob("*.py"), key=lambda p: p.relative_to(root).as_posix()):
+            parts.append(f"{f.relative_to(root).as_posix()}:{file_fingerprint(f)}")
+        return digest("\n".join(parts))
+    return file_fingerprint(origin_path)
+
+
+def function_fingerprint(fn) -> str:
+    """Fingerprint of the module that defines ``fn`` (its helpers count too)."""
+    module = inspect.getmodule(fn)
+    if module is not None and getattr(module, "__file__", None):
+        return file_fingerprint(Path(module.__file__))
+    return source_fingerprint(inspect.getsource(fn))

@@ -1,0 +1,176 @@
+"""The DAG of task instances ("points") a study expands into.
+
+A *stage* is one task in the graph; it has one point, or one point per
+combination of its sweep coordinates.  Upstream links:
+
+* ``graph.add(t, upstream={"impact": node})`` -- one upstream result;
+* ``graph.sweep(t, dims={...}, upstream={"run": other_sweep})`` -- when an
+  upstream is a sweep, each point of this sweep receives the upstream points
+  that agree with it on the shared dims; dims the upstream has and this
+  sweep does not are *combined* into one Dataset along those dims (e.g. a
+  per-(angle, velocity) saturation fit receives all sequences of its strip
+  runs as one Dataset with a ``sequence`` dim).
+
+The engine knows nothing about what the tasks compute.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Mapping
+
+from .canonical import canonical_json, canonical_value
+from .task import Task
+
+
+def point_label(coords: Mapping[str, Any]) -> str:
+    """``angle_deg=45,velocity_m_s=25`` -- stable, human-readable point name."""
+    return ",".join(f"{k}={canonical_json(v)}" for k, v in coords.items())
+
+
+@dataclass(eq=False)
+class Node:
+    """One point: a task, its canonical parameters and its upstream links."""
+
+    task: Task
+    stage: str
+    params: dict
+    upstream: dict  # name -> Node | Group
+    coords: dict = field(default_factory=dict)  # sweep coordinates of this point
+
+    @property
+    def label(self) -> str:
+        return point_label(self.coords)
+
+    @property
+    def node_id(self) -> str:
+        return f"{self.stage}[{self.label}]" if self.coords else self.stage
+
+    def upstream_nodes(self) -> list["Node"]:
+        out: list[Node] = []
+        for up in self.upstream.values():
+            out.extend(up.nodes if isinstance(up, Group) else [up])
+        return out
+
+
+@dataclass(eq=False)
+class Group:
+    """Several upstream points combined into one Dataset along ``dims``."""
+
+    nodes: list[Node]
+    dims: tuple[str, ...]
+
+
+@dataclass(eq=False)
+class Sweep:
+    """The points of one swept stage, with their coordinates."""
+
+    stage: str
+    dims: tuple[str, ...]
+    nodes: list[Node]
+
+    def select(self, **coords) -> Group | Node:
+        """Points matching ``coords``; a single point if every dim is fixed."""
+        picked = [
+            n for n in self.nodes
+            if all(canonical_value(n.coords[k]) == canonical_value(v) for k, v in coords.items())
+        ]
+        rest = tuple(d for d in self.dims if d not in coords)
+        if not rest and len(picked) == 1:
+            return picked[0]
+        return Group(picked, rest)
+
+    def all(self) -> Group:
+        return Group(list(self.nodes), self.dims)
+
+
+class Graph:
+    """An ordered collection of points; insertion order is a topological order."""
+
+    def __init__(self, name: str):
+        self.name = name
+        self.nodes: list[Node] = []
+        self._stages: dict[str, Task] = {}
+
+    # -- building -----------------------------------------------------------
+    def _register_stage(self, task: Task, stage: str | None) -> str:
+        stage = stage or task.name
+        if stage in self._stages:
+            raise ValueError(f"stage {stage!r} added twice; pass stage=... to name the second one")
+        self._stages[stage] = task
+        return stage
+
+    def add(self, task: Task, params: Mapping | None = None, upstream: Mapping | None = None,
+            stage: str | None = None) -> Node:
+        stage = self._register_stage(task, stage)
+        up = {k: (v.all() if isinstance(v, Sweep) else v) for k, v in (upstream or {}).items()}
+        node = Node(task, stage, canonical_value(dict(params or {})), up)
+        self.nodes.append(node)
+        return node
+
+    def sweep(self, task: Task, dims: Mapping[str, Iterable], params: Mapping | None = None,
+              upstream: Mapping | None = None, stage: str | None = None,
+              point_params=None) -> Sweep:
+        """One point per combination of ``dims`` (their values become parameters too).
+
+        ``point_params(coords) -> dict`` may add parameters that depend on the point.
+        """
+        stage = self._register_stage(task, stage)
+        names = tuple(dims)
+        values = [list(dims[d]) for d in names]
+        for d, vals in zip(names, values):
+            if len({canonical_json(v) for v in vals}) != len(vals):
+                raise ValueError(f"sweep dim {d!r} of stage {stage!r} has repeated values: {vals}")
+        nodes = []
+        for combo in itertools.product(*values):
+            coords = dict(zip(names, combo))
+            p = dict(params or {})
+            p.update(coords)
+            if point_params is not None:
+                p.update(point_params(coords))
+            up = {k: self._align(v, coords) for k, v in (upstream or {}).items()}
+            node = Node(task, stage, canonical_value(p), up, coords=coords)
+            nodes.append(node)
+            self.nodes.append(node)
+        return Sweep(stage, names, nodes)
+
+    @staticmethod
+    def _align(up, coords):
+        if isinstance(up, Sweep):
+            shared = {k: v for k, v in coords.items() if k in up.dims}
+            return up.select(**shared) if shared else up.all()
+        return up
+
+    # -- queries ------------------------------------------------------------
+    @property
+    def stages(self) -> list[str]:
+        return list(self._stages)
+
+    def stage_nodes(self, stage: str) -> list[Node]:
+        if stage not in self._stages:
+            raise KeyError(f"no stage {stage!r}; stages are: {', '.join(self._stages)}")
+        return [n for n in self.nodes if n.stage == stage]
+
+    def ancestors(self, nodes: Iterable[Node]) -> list[Node]:
+        """``nodes`` and everything they depend on, in graph order."""
+        keep: set[int] = set()
+        stack = list(nodes)
+        while stack:
+            n = stack.pop()
+            if id(n) in keep:
+                continue
+            keep.add(id(n))
+            stack.extend(n.upstream_nodes())
+        return [n for n in self.nodes if id(n) in keep]
+
+    def descendants(self, nodes: Iterable[Node]) -> list[Node]:
+        """``nodes`` and everything that depends on them, in graph order."""
+        keep = {id(n) for n in nodes}
+        for n in self.nodes:
+            if any(id(u) in keep for u in n.upstream_nodes()):
+                keep.add(id(n))
+        return [n for n in self.nodes if id(n) in keep]
+
+    def until(self, stage: str) -> list[Node]:
+        return self.ancestors(self.stage_nodes(stage))

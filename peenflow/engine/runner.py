@@ -1,0 +1,254 @@
+"""Running one point: decide, lease, compute or reuse, store, record.
+
+``run_node`` is what every dask task executes, locally or on a cluster
+worker.  It receives a picklable :class:`PointSpec` (names, not objects) and
+the outcomes of its upstream points, and never raises for a task failure:
+the failure is recorded in the store and returned, so one bad point of a
+sweep does not stop or lose the others.
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+import socket
+import sys
+import time
+import traceback
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+
+import xarray as xr
+
+from .canonical import canonical_json
+from .combine import combine_points
+from .context import TaskContext
+from .keys import KeyParts, reason_against_slot
+from .lease import STALE_AFTER_S
+from .reasons import Reason
+from .store import DirectoryStore
+from .task import resolve_task
+
+LEASE_POLL_S = 0.5
+
+
+@dataclass(frozen=True)
+class UpstreamRef:
+    """How a task argument maps onto upstream outcomes (by index in the upstream list)."""
+
+    indices: tuple[int, ...]
+    dims: tuple[str, ...] | None  # None: a single point, else combine along dims
+
+
+@dataclass(frozen=True)
+class PointSpec:
+    task_module: str
+    task_qualname: str
+    task_name: str
+    stage: str
+    node_id: str
+    label: str
+    coords: dict
+    params: dict
+    upstream: dict  # name -> UpstreamRef
+    store_root: str
+    study: str
+    forced: bool = False
+    threads: int = 1
+
+
+@dataclass(frozen=True)
+class Outcome:
+    node_id: str
+    stage: str
+    label: str
+    coords: dict
+    task: str
+    key: str | None
+    status: str  # computed | reused | failed | skipped | blocked
+    reason: str
+    detail: str = ""
+    content_hash: str | None = None
+    wall_s: float = 0.0
+    error: str = ""
+    stale: bool = False
+    upstream_keys: dict = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return self.status in ("computed", "reused")
+
+
+def upstream_hashes(spec: PointSpec, ups: list[Outcome]) -> dict:
+    out = {}
+    for name, ref in spec.upstream.items():
+        if ref.dims is None:
+            out[name] = ups[ref.indices[0]].content_hash
+        else:
+            out[name] = sorted([ups[i].label, ups[i].content_hash] for i in ref.indices)
+    return out
+
+
+def _versions() -> dict:
+    import numpy
+    import peenflow
+
+    v = {"peenflow": peenflow.__version__, "python": platform.python_version(),
+         "numpy": numpy.__version__, "xarray": xr.__version__}
+    try:
+        import numba
+
+        v["numba"] = numba.__version__
+    except ImportError:  # pragma: no cover
+        pass
+    return v
+
+
+def _load_upstream(store: DirectoryStore, spec: PointSpec, ups: list[Outcome]) -> dict:
+    args = {}
+    for name, ref in spec.upstream.items():
+        if ref.dims is None:
+            o = ups[ref.indices[0]]
+            args[name] = store.open(o.task, o.key)
+        else:
+            datasets = [store.open(ups[i].task, ups[i].key) for i in ref.indices]
+            args[name] = combine_points(datasets, [ups[i].coords for i in ref.indices], ref.dims)
+    return args
+
+
+def _outcome(spec, key, status, reason, detail="", **kw) -> Outcome:
+    return Outcome(spec.node_id, spec.stage, spec.label, spec.coords, spec.task_name, key,
+                   status, reason.value if isinstance(reason, Reason) else reason, detail, **kw)
+
+
+def run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
+    """Compute or reuse one point.  Never raises for a failing task."""
+    try:
+        return _run_node(spec, ups)
+    except Exception as exc:  # engine-level failure: still report, never lose the others
+        return _outcome(spec, None, "failed", "engine error", f"{type(exc).__name__}: {exc}",
+                        error=traceback.format_exc())
+
+
+def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
+    bad = [u for u in ups if not u.ok]
+    if bad:
+        return _outcome(spec, None, "skipped", "upstream failed",
+                        ", ".join(sorted({u.node_id for u in bad})[:3]))
+    task = resolve_task(spec.task_module, spec.task_qualname)
+    store = DirectoryStore(spec.store_root)
+    up_hashes = upstream_hashes(spec, ups)
+    code = task.code_id()
+    parts = KeyParts(task.name, code, spec.params, up_hashes)
+    key = parts.key
+    upstream_keys = {name: [ups[i].key for i in ref.indices] for name, ref in spec.upstream.items()}
+
+    slot = store.slot(spec.study, spec.stage, spec.label)
+    if spec.forced:
+        reason, detail = Reason.FORCED, "rerun requested"
+    else:
+        reason, detail = reason_against_slot(slot, task.name, code, spec.params, up_hashes)
+
+    def reuse(manifest) -> Outcome:
+        stale = task.version is not None and manifest.source_hash != task.source_hash()
+        _record_slot(store, spec, parts, "done", manifest.source_hash)
+        return _outcome(spec, key, "reused", Reason.STALE if stale else Reason.UP_TO_DATE,
+                        f"code changed under version {task.version}" if stale else "",
+                        content_hash=manifest.content_hash, stale=stale, upstream_keys=upstream_keys)
+
+    manifest, problem = store.check(task.name, key)
+    if manifest is not None and not spec.forced:
+        return reuse(manifest)
+    if manifest is None and problem != "missing" and reason is Reason.INCOMPLETE:
+        detail = problem
+
+    # Take the lease; while someone else holds it, wait and then reuse their result.
+    waited_for_other = False
+    while True:
+        lease = store.leases.try_acquire(key, f"{spec.study}:{spec.node_id}")
+        if lease is not None:
+            break
+        if store.leases.break_if_dead(key):
+            continue
+        info = store.leases.info(key)
+        if info is not None and info.holder_alive is None and info.heartbeat_age_s > STALE_AFTER_S:
+            return _outcome(spec, key, "blocked", "lease held elsewhere",
+                            f"{info.describe()}; if that run is dead, run `peenflow unlock`",
+                            upstream_keys=upstream_keys)
+        waited_for_other = True
+        time.sleep(LEASE_POLL_S)
+
+    with lease:
+        if waited_for_other or not spec.forced:
+            manifest, problem = store.check(task.name, key)
+            if manifest is not None:
+                return reuse(manifest)
+        if problem not in ("missing", "") and not spec.forced:
+            store.discard(task.name, key)  # damaged: never trusted, recomputed below
+        return _compute(task, store, spec, ups, parts, reason, detail, upstream_keys)
+
+
+def _record_slot(store, spec, parts: KeyParts, state: str, source_hash: str, **extra) -> None:
+    rec = {"study": spec.study, "stage": spec.stage, "label": spec.label, "node_id": spec.node_id,
+           "key": parts.key, "parts": parts.to_dict(), "source_hash": source_hash, "state": state,
+           "time": time.time()}
+    rec.update(extra)
+    store.write_slot(spec.study, spec.stage, spec.label, rec)
+
+
+def _compute(task, store, spec, ups, parts: KeyParts, reason, detail, upstream_keys) -> Outcome:
+    key = parts.key
+    source_hash = task.source_hash()
+    ctx = TaskContext(store, key, spec.node_id, spec.study, spec.threads)
+    if ctx.resumed and reason is not Reason.FORCED:
+        reason, detail = Reason.INCOMPLETE, "resuming from checkpoint"
+    elif reason is Reason.FORCED:
+        ctx.clear_checkpoint()
+    started = time.time()
+    try:
+        kwargs = dict(spec.params)
+        kwargs.update(_load_upstream(store, spec, ups))
+        if task.wants_ctx:
+            kwargs["ctx"] = ctx
+        result = task.fn(**kwargs)
+        if not isinstance(result, xr.Dataset):
+            raise TypeError(f"task {task.name!r} returned {type(result).__name__}, expected xarray.Dataset")
+        finished = time.time()
+        result = result.copy()
+        result.attrs.update({
+            "peenflow_task": task.name,
+            "peenflow_stage": spec.stage,
+            "peenflow_point": spec.node_id,
+            "peenflow_study": spec.study,
+            "peenflow_key": key,
+            "peenflow_version": task.version or "",
+            "peenflow_code": parts.code,
+            "peenflow_source_hash": source_hash,
+            "peenflow_params": canonical_json(spec.params),
+            "peenflow_upstream": json.dumps(upstream_keys, sort_keys=True),
+            "peenflow_versions": json.dumps(_versions(), sort_keys=True),
+            "peenflow_started": datetime.fromtimestamp(started, timezone.utc).isoformat(),
+            "peenflow_finished": datetime.fromtimestamp(finished, timezone.utc).isoformat(),
+            "peenflow_wall_s": finished - started,
+            "peenflow_host": socket.gethostname(),
+            "peenflow_resumed": int(ctx.resumed),
+        })
+        manifest = store.write_result(task.name, key, result, parts.to_dict(), source_hash,
+                                      replace=spec.forced)
+    except Exception as exc:
+        tb = traceback.format_exc()
+        store.write_failure(task.name, key, {
+            "node_id": spec.node_id, "study": spec.study, "error": f"{type(exc).__name__}: {exc}",
+            "traceback": tb, "host": socket.gethostname(), "time": time.time(),
+            "python": sys.version.split()[0],
+        })
+        _record_slot(store, spec, parts, "failed", source_hash, error=f"{type(exc).__name__}: {exc}")
+        store.clear_progress(key)
+        return _outcome(spec, key, "failed", reason, detail, error=f"{type(exc).__name__}: {exc}",
+                        wall_s=time.time() - started, upstream_keys=upstream_keys)
+    ctx.clear_checkpoint()
+    store.clear_progress(key)
+    store.clear_failure(task.name, key)
+    _record_slot(store, spec, parts, "done", source_hash)
+    return _outcome(spec, key, "computed", reason, detail, content_hash=manifest.content_hash,
+                    wall_s=time.time() - started, upstream_keys=upstream_keys)

@@ -1,0 +1,222 @@
+"""The results store: one netCDF file per result in a directory tree.
+
+Layout under the store root::
+
+    results/<task>/<key>.nc     the Dataset, with provenance attrs
+    results/<task>/<key>.json   its manifest: size and SHA-256 of the file,
+                                content hash, key parts; written *after* the
+                                .nc is in place, so a result counts as done
+                                only when both exist and agree
+    failures/<task>/<key>.json  error and traceback of a failed point
+    slots/<study>/<stage>/<id>.json
+                                the last attempt of each point of a study
+                                (what key it had, and why) -- the memory that
+                                lets ``status`` say *why* something reruns
+    checkpoints/<key>/          intermediate state of a long task
+    progress/<key>.json         progress of a running task
+    leases/<key>/               see lease.py
+
+A result whose file is missing, truncated or altered (size or SHA-256 differ
+from the manifest) is never trusted: the planner treats it as incomplete and
+recomputes it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import xarray as xr
+
+from .atomic import TMP_SUFFIX, fsync_file, read_json, temporary_sibling, write_json_atomic
+from .canonical import digest
+from .content import dataset_content_hash
+from .lease import LeaseTable
+from .netcdf_io import read_dataset, write_dataset
+
+
+class StoreError(RuntimeError):
+    pass
+
+
+@dataclass(frozen=True)
+class Manifest:
+    task: str
+    key: str
+    content_hash: str
+    file_sha256: str
+    file_bytes: int
+    parts: dict
+    source_hash: str
+    created: float
+
+    def to_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+def file_sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def slot_id(label: str) -> str:
+    return digest(label or "-", 16)
+
+
+class DirectoryStore:
+    """Embedded, server-less store on a (possibly shared) directory."""
+
+    def __init__(self, root: str | os.PathLike):
+        self.root = Path(root).resolve()
+        self.leases = LeaseTable(self.root / "leases")
+        self._verified: dict[tuple, bool] = {}
+
+    # -- paths ----------------------------------------------------------------
+    def result_path(self, task: str, key: str) -> Path:
+        return self.root / "results" / task / f"{key}.nc"
+
+    def manifest_path(self, task: str, key: str) -> Path:
+        return self.root / "results" / task / f"{key}.json"
+
+    def failure_path(self, task: str, key: str) -> Path:
+        return self.root / "failures" / task / f"{key}.json"
+
+    def slot_path(self, study: str, stage: str, label: str) -> Path:
+        return self.root / "slots" / study / stage / f"{slot_id(label)}.json"
+
+    def checkpoint_dir(self, key: str) -> Path:
+        return self.root / "checkpoints" / key
+
+    def progress_path(self, key: str) -> Path:
+        return self.root / "progress" / f"{key}.json"
+
+    # -- results --------------------------------------------------------------
+    def manifest(self, task: str, key: str) -> Manifest | None:
+        data = read_json(self.manifest_path(task, key))
+        if data is None:
+            return None
+        try:
+            return Manifest(**data)
+        except TypeError:
+            return None
+
+    def check(self, task: str, key: str) -> tuple[Manifest | None, str]:
+        """(manifest, "") for a valid result; (None, problem) otherwise."""
+        path = self.result_path(task, key)
+        m = self.manifest(task, key)
+        exists = path.exists()
+        if m is None and not exists:
+            return None, "missing"
+        if m is None:
+            return None, "result file has no manifest (writer killed before finishing)"
+        if not exists:
+            return None, "result file missing (manifest present)"
+        st = path.stat()
+        if st.st_size != m.file_bytes:
+            return None, f"result file is {st.st_size} bytes, expected {m.file_bytes} (truncated?)"
+        stamp = (str(path), st.st_mtime_ns, st.st_size, m.file_sha256)
+        if stamp not in self._verified:
+            self._verified[stamp] = file_sha256(path) == m.file_sha256
+        if not self._verified[stamp]:
+            return None, "result file checksum does not match its manifest (corrupted)"
+        return m, ""
+
+    def write_result(self, task: str, key: str, ds: xr.Dataset, parts: dict, source_hash: str,
+                     replace: bool = False) -> Manifest:
+        """Write ``ds`` atomically; return its manifest.
+
+        A valid result already stored under ``key`` is kept as it is (another
+        run computed the same inputs first).  With ``replace`` (a forced
+        rerun) it is replaced only if the new content differs, and the old
+        file is kept beside it as ``<key>.superseded-<time>.nc`` -- nothing
+        computed is ever silently overwritten.
+        """
+        final = self.result_path(task, key)
+        final.parent.mkdir(parents=True, exist_ok=True)
+        tmp = temporary_sibling(final)
+        try:
+            write_dataset(ds, tmp)
+        except (TypeError, ValueError) as exc:
+            tmp.unlink(missing_ok=True)
+            raise StoreError(f"task {task!r} returned a Dataset that cannot be stored as netCDF: {exc}") from exc
+        fsync_file(tmp)
+        # Hash what was written, as it reads back: later readers see exactly this.
+        content = dataset_content_hash(read_dataset(tmp))
+        sha = file_sha256(tmp)
+        size = tmp.stat().st_size
+        existing, _ = self.check(task, key)
+        if existing is not None and (not replace or existing.content_hash == content):
+            # Same inputs computed already (by another run, or identically now): keep the file.
+            tmp.unlink(missing_ok=True)
+            return existing
+        if existing is not None:
+            stamp = time.strftime("%Y%m%dT%H%M%S", time.gmtime())
+            os.replace(final, final.with_name(f"{key}.superseded-{stamp}.nc"))
+        os.replace(tmp, final)
+        manifest = Manifest(task, key, content, sha, size, parts, source_hash, time.time())
+        write_json_atomic(self.manifest_path(task, key), manifest.to_dict())
+        return manifest
+
+    def open(self, task: str, key: str) -> xr.Dataset:
+        """The stored Dataset, loaded into memory (the file is closed again)."""
+        return read_dataset(self.result_path(task, key))
+
+    def discard(self, task: str, key: str) -> None:
+        """Remove an invalid result (never called on a valid one)."""
+        self.manifest_path(task, key).unlink(missing_ok=True)
+        self.result_path(task, key).unlink(missing_ok=True)
+
+    # -- failures, slots, progress ------------------------------------------------
+    def write_failure(self, task: str, key: str, record: dict) -> None:
+        write_json_atomic(self.failure_path(task, key), record)
+
+    def failure(self, task: str, key: str) -> dict | None:
+        return read_json(self.failure_path(task, key))
+
+    def clear_failure(self, task: str, key: str) -> None:
+        self.failure_path(task, key).unlink(missing_ok=True)
+
+    def write_slot(self, study: str, stage: str, label: str, record: dict) -> None:
+        write_json_atomic(self.slot_path(study, stage, label), record)
+
+    def slot(self, study: str, stage: str, label: str) -> dict | None:
+        return read_json(self.slot_path(study, stage, label))
+
+    def slots(self):
+        """Every slot record of every study in the store."""
+        base = self.root / "slots"
+        if not base.exists():
+            return
+        for p in sorted(base.glob("*/*/*.json")):
+            rec = read_json(p)
+            if rec is not None:
+                yield p, rec
+
+    def write_progress(self, key: str, record: dict) -> None:
+        write_json_atomic(self.progress_path(key), record)
+
+    def progress(self, key: str) -> dict | None:
+        return read_json(self.progress_path(key))
+
+    def clear_progress(self, key: str) -> None:
+        self.progress_path(key).unlink(missing_ok=True)
+
+    # -- housekeeping ---------------------------------------------------------------
+    def all_results(self):
+        """(task, key, path) of every result file (valid or not)."""
+        base = self.root / "results"
+        if not base.exists():
+            return
+        for p in sorted(base.glob("*/*.nc")):
+            yield p.parent.name, p.stem, p
+
+    def temporary_files(self):
+        if not self.root.exists():
+            return []
+        return sorted(p for p in self.root.rglob(f".*{TMP_SUFFIX}"))

@@ -1,0 +1,91 @@
+"""Declaring tasks.
+
+A task is a pure function of its parameters and its upstream results that
+returns an :class:`xarray.Dataset`::
+
+    @task(version="2", uses=("mypkg.kernel",))
+    def indentation(impact: xr.Dataset, *, level: float, ctx: TaskContext) -> xr.Dataset:
+        ...
+
+* keyword arguments that receive upstream results are named in the graph
+  (``graph.add(indentation, upstream={"impact": node})``); all other keyword
+  arguments are parameters;
+* ``ctx`` (optional) gives progress reporting and checkpoints;
+* ``version``: when given, the result key uses it instead of the code
+  fingerprint, so the author decides when a change invalidates results;
+  ``status`` then flags results whose code changed under the same version
+  as *stale*;
+* ``uses``: modules/packages whose source also enters the code fingerprint
+  (the kernel a task calls), on top of the task's own module.
+"""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+from dataclasses import dataclass, field
+from typing import Callable
+
+from .canonical import digest
+from .fingerprint import function_fingerprint, module_fingerprint
+
+
+@dataclass(frozen=True)
+class Task:
+    """A registered task: the function plus how its code is identified."""
+
+    fn: Callable
+    name: str
+    version: str | None = None
+    uses: tuple[str, ...] = ()
+    wants_ctx: bool = field(default=False)
+
+    @property
+    def module(self) -> str:
+        return self.fn.__module__
+
+    @property
+    def qualname(self) -> str:
+        return self.fn.__qualname__
+
+    def source_hash(self) -> str:
+        """Fingerprint of the task's module and every module it declares it uses."""
+        parts = [f"task:{function_fingerprint(self.fn)}"]
+        parts += [f"{m}:{module_fingerprint(m)}" for m in sorted(self.uses)]
+        return digest("\n".join(parts))
+
+    def code_id(self) -> str:
+        """What enters the result key for the code: the version if declared."""
+        return f"version:{self.version}" if self.version is not None else f"source:{self.source_hash()}"
+
+    def __call__(self, *args, **kwargs):
+        return self.fn(*args, **kwargs)
+
+
+def task(name: str | None = None, *, version: str | int | None = None, uses: tuple[str, ...] = ()):
+    """Decorator turning a function into a :class:`Task`."""
+
+    def wrap(fn: Callable) -> Task:
+        sig = inspect.signature(fn)
+        return Task(
+            fn=fn,
+            name=name or fn.__name__,
+            version=None if version is None else str(version),
+            uses=tuple(uses),
+            wants_ctx="ctx" in sig.parameters,
+        )
+
+    if callable(name):  # bare @task
+        fn, name = name, None
+        return wrap(fn)
+    return wrap
+
+
+def resolve_task(module: str, qualname: str) -> Task:
+    """Find a task by import path (used on dask workers, which receive names)."""
+    obj = importlib.import_module(module)
+    for part in qualname.split("."):
+        obj = getattr(obj, part)
+    if not isinstance(obj, Task):
+        raise TypeError(f"{module}.{qualname} is not a peenflow task")
+    return obj

@@ -1,0 +1,62 @@
+"""A small, generic pipeline for the engine's tests (no physics).
+
+source(n) -> scale[factor] (swept) -> total (combined over factor)
+counter(steps): a long task that checkpoints after every step.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+import tomllib
+
+import numpy as np
+import xarray as xr
+
+from peenflow.engine import Graph, task
+
+
+@task()
+def source(*, n: int, delay_s: float = 0.0) -> xr.Dataset:
+    time.sleep(delay_s)
+    x = np.arange(n, dtype=float)
+    return xr.Dataset({"value": ("i", x ** 2)}, coords={"i": x}, attrs={"description": "squares"})
+
+
+@task(version="1")
+def scale(src: xr.Dataset, *, factor: float, delay_s: float = 0.0, fail_factor: float = -1.0) -> xr.Dataset:
+    time.sleep(delay_s)
+    if factor == fail_factor:
+        raise RuntimeError(f"factor {factor} fails on purpose")
+    return xr.Dataset({"scaled": src.value * factor, "pid": ((), os.getpid())})
+
+
+@task()
+def total(scaled: xr.Dataset) -> xr.Dataset:
+    return xr.Dataset({"total": scaled.scaled.sum("i")})
+
+
+@task()
+def counter(*, steps: int, delay_s: float = 0.0, ctx) -> xr.Dataset:
+    state = ctx.load_checkpoint()
+    start = int(state.step) if state is not None else 0
+    acc = float(state.acc) if state is not None else 0.0
+    for k in range(start, steps):
+        time.sleep(delay_s)
+        acc += k
+        ctx.save_checkpoint(xr.Dataset({"step": ((), k + 1), "acc": ((), acc)}))
+        ctx.progress(k + 1, steps, "steps")
+    return xr.Dataset({"acc": ((), acc), "started_at_step": ((), start)})
+
+
+def build(path) -> Graph:
+    with open(path, "rb") as f:
+        cfg = tomllib.load(f)
+    toy = cfg["toy"]
+    g = Graph(cfg["study"]["name"])
+    src = g.add(source, params={"n": toy["n"], "delay_s": toy.get("delay_s", 0.0)})
+    scaled = g.sweep(scale, dims={"factor": toy["factors"]}, upstream={"src": src},
+                     params={"delay_s": toy.get("delay_s", 0.0), "fail_factor": toy.get("fail_factor", -1.0)})
+    g.add(total, upstream={"scaled": scaled})
+    g.add(counter, params={"steps": toy.get("steps", 3), "delay_s": toy.get("counter_delay_s", 0.0)})
+    return g
