@@ -38,6 +38,8 @@ def main(argv: list[str] | None = None) -> int:
     except UserError as exc:
         print(f"peenflow {args.verb}: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # output piped into `head`
+        return 0
     except KeyboardInterrupt:
         print("\ninterrupted: finished results are kept; rerun to resume", file=sys.stderr)
         return 130

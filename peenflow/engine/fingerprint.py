@@ -73,9 +73,31 @@ def module_fingerprint(module_name: str) -> str:
     return file_fingerprint(origin_path)
 
 
+def _is_task_def(node: ast.AST) -> bool:
+    if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+        return False
+    for dec in node.decorator_list:
+        target = dec.func if isinstance(dec, ast.Call) else dec
+        name = target.attr if isinstance(target, ast.Attribute) else getattr(target, "id", "")
+        if name.endswith("task"):
+            return True
+    return False
+
+
+@functools.lru_cache(maxsize=None)
+def _task_fingerprint(path: str, mtime_ns: int, size: int, fn_name: str) -> str:
+    tree = _strip_docstrings(ast.parse(Path(path).read_text(encoding="utf-8")))
+    # Other tasks of the same module are their own business; helpers, constants
+    # and imports count for every task of the module.
+    tree.body = [n for n in tree.body if not (_is_task_def(n) and n.name != fn_name)]
+    return digest(ast.dump(tree, annotate_fields=True, include_attributes=False))
+
+
 def function_fingerprint(fn) -> str:
-    """Fingerprint of the module that defines ``fn`` (its helpers count too)."""
+    """Fingerprint of the module defining task function ``fn``, minus its other tasks."""
     module = inspect.getmodule(fn)
     if module is not None and getattr(module, "__file__", None):
-        return file_fingerprint(Path(module.__file__))
+        path = Path(module.__file__)
+        st = path.stat()
+        return _task_fingerprint(str(path), st.st_mtime_ns, st.st_size, fn.__name__)
     return source_fingerprint(inspect.getsource(fn))

@@ -62,10 +62,18 @@ def reason_against_slot(slot: dict | None, task: str, code: str, params: dict,
         more = f" (+{len(changed) - 4} more)" if len(changed) > 4 else ""
         return Reason.PARAMS_CHANGED, shown + more
     if old.get("code") != code:
-        return Reason.CODE_CHANGED, f"{old.get('code')} -> {code}"
+        return Reason.CODE_CHANGED, f"{_short(old.get('code'))} -> {_short(code)}"
     if upstream is None:
         return Reason.UPSTREAM_CHANGED, "an upstream result is still to be computed"
     changed = diff_keys(old.get("upstream", {}), upstream)
     if changed:
         return Reason.UPSTREAM_CHANGED, "new content in " + ", ".join(changed)
     return Reason.INCOMPLETE, "same inputs as the last attempt, but no valid result"
+
+
+def _short(code: str | None) -> str:
+    """``source:0123abcd...`` -> ``source 0123abcd``; versions shown whole."""
+    if not code:
+        return "?"
+    kind, _, value = code.partition(":")
+    return f"{kind} {value[:8]}" if kind == "source" else f"{kind} {value}"

@@ -10,6 +10,7 @@ sweep does not stop or lose the others.
 from __future__ import annotations
 
 import json
+import os
 import platform
 import socket
 import sys
@@ -231,6 +232,7 @@ def _compute(task, store, spec, ups, parts: KeyParts, reason, detail, upstream_k
             "peenflow_finished": datetime.fromtimestamp(finished, timezone.utc).isoformat(),
             "peenflow_wall_s": finished - started,
             "peenflow_host": socket.gethostname(),
+            "peenflow_pid": os.getpid(),
             "peenflow_resumed": int(ctx.resumed),
         })
         manifest = store.write_result(task.name, key, result, parts.to_dict(), source_hash,

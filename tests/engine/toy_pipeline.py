@@ -16,6 +16,14 @@ import xarray as xr
 from peenflow.engine import Graph, task
 
 
+def _log(event: str, what) -> None:
+    """Append to $TOY_LOG (if set): lets tests see who computed what, when."""
+    path = os.environ.get("TOY_LOG")
+    if path:
+        with open(path, "a") as f:  # O_APPEND: lines from several processes do not interleave
+            f.write(f"{event} {what} {os.getpid()} {time.time():.6f}\n")
+
+
 @task()
 def source(*, n: int, delay_s: float = 0.0) -> xr.Dataset:
     time.sleep(delay_s)
@@ -25,10 +33,12 @@ def source(*, n: int, delay_s: float = 0.0) -> xr.Dataset:
 
 @task(version="1")
 def scale(src: xr.Dataset, *, factor: float, delay_s: float = 0.0, fail_factor: float = -1.0) -> xr.Dataset:
+    _log("start", factor)
     time.sleep(delay_s)
     if factor == fail_factor:
         raise RuntimeError(f"factor {factor} fails on purpose")
-    return xr.Dataset({"scaled": src.value * factor, "pid": ((), os.getpid())})
+    _log("scale", factor)
+    return xr.Dataset({"scaled": src.value * factor})
 
 
 @task()
@@ -54,7 +64,7 @@ def build(path) -> Graph:
         cfg = tomllib.load(f)
     toy = cfg["toy"]
     g = Graph(cfg["study"]["name"])
-    src = g.add(source, params={"n": toy["n"], "delay_s": toy.get("delay_s", 0.0)})
+    src = g.add(source, params={"n": toy["n"], "delay_s": toy.get("source_delay_s", 0.0)})
     scaled = g.sweep(scale, dims={"factor": toy["factors"]}, upstream={"src": src},
                      params={"delay_s": toy.get("delay_s", 0.0), "fail_factor": toy.get("fail_factor", -1.0)})
     g.add(total, upstream={"scaled": scaled})
