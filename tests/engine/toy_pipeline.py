@@ -32,10 +32,11 @@ def source(*, n: int, delay_s: float = 0.0) -> xr.Dataset:
 
 
 @task(version="1")
-def scale(src: xr.Dataset, *, factor: float, delay_s: float = 0.0, fail_factor: float = -1.0) -> xr.Dataset:
+def scale(src: xr.Dataset, *, factor: float, delay_s: float = 0.0) -> xr.Dataset:
     _log("start", factor)
     time.sleep(delay_s)
-    if factor == fail_factor:
+    # An outside condition (not a parameter), like a node running out of memory.
+    if str(factor) == os.environ.get("TOY_FAIL_FACTOR"):
         raise RuntimeError(f"factor {factor} fails on purpose")
     _log("scale", factor)
     return xr.Dataset({"scaled": src.value * factor})
@@ -66,7 +67,7 @@ def build(path) -> Graph:
     g = Graph(cfg["study"]["name"])
     src = g.add(source, params={"n": toy["n"], "delay_s": toy.get("source_delay_s", 0.0)})
     scaled = g.sweep(scale, dims={"factor": toy["factors"]}, upstream={"src": src},
-                     params={"delay_s": toy.get("delay_s", 0.0), "fail_factor": toy.get("fail_factor", -1.0)})
+                     params={"delay_s": toy.get("delay_s", 0.0)})
     g.add(total, upstream={"scaled": scaled})
     g.add(counter, params={"steps": toy.get("steps", 3), "delay_s": toy.get("counter_delay_s", 0.0)})
     return g
