@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import argparse
+
 from ..engine import Reporter, execute
 from ._common import add_study, load, stage_nodes
 from .status import print_plan
@@ -16,10 +18,20 @@ def add_arguments(p) -> None:
     p.add_argument("--until", metavar="STAGE", help="run only this stage and what it needs")
 
 
+def positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {value}")
+    return value
+
+
 def add_execution(p) -> None:
     p.add_argument("--dry-run", action="store_true", help="show what would be computed, and why")
-    p.add_argument("--workers", type=int, default=None, help="parallel points (default: all cores)")
-    p.add_argument("--threads", type=int, default=None,
+    p.add_argument("--workers", type=positive_int, default=None, help="parallel points (default: all cores)")
+    p.add_argument("--threads", type=positive_int, default=None,
                    help="compute threads per point (default: cores // workers)")
     p.add_argument("--scheduler", metavar="ADDR", default=None,
                    help="dask.distributed scheduler, e.g. tcp://host:8786 (store must be shared)")

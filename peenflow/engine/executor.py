@@ -89,6 +89,7 @@ def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: s
         threads = threads or max(1, cores // workers)
     else:
         threads = threads or 1
+    reporter.expect(nodes)
     specs = point_specs(graph, nodes, store, set(forced), threads)
     dsk = {nid: (run_node, spec, ups) for nid, (spec, ups) in specs.items()}
     keys = list(dsk)

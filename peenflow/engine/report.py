@@ -19,6 +19,13 @@ class Reporter:
         self.outcomes: list[Outcome] = []
         self._lock = threading.Lock()
         self.started = time.time()
+        self._expected: dict[str, int] = {}
+        self._finished: dict[str, int] = defaultdict(int)
+
+    def expect(self, nodes) -> None:
+        """Tell the reporter how many points each stage has (for ``[k/n]`` counters)."""
+        for n in nodes:
+            self._expected[n.stage] = self._expected.get(n.stage, 0) + 1
 
     def line(self, text: str) -> None:
         with self._lock:
@@ -26,12 +33,15 @@ class Reporter:
 
     def outcome(self, o: Outcome) -> None:
         self.outcomes.append(o)
+        self._finished[o.stage] += 1
         if self.quiet:
             return
         why = o.reason + (f": {o.detail}" if o.detail else "")
         wall = f"{o.wall_s:8.1f} s" if o.status == "computed" else " " * 10
         stale = "  [STALE]" if o.stale else ""
-        self.line(f"{SYMBOL.get(o.status, '?')} {o.status:8s} {wall}  {o.node_id}  ({why}){stale}")
+        n = self._expected.get(o.stage, 0)
+        count = f"  [{self._finished[o.stage]}/{n} of {o.stage}]" if n > 1 else ""
+        self.line(f"{SYMBOL.get(o.status, '?')} {o.status:8s} {wall}  {o.node_id}  ({why}){stale}{count}")
         if o.status == "failed" and o.error:
             self.line(f"      error: {o.error.strip().splitlines()[-1]}")
 
