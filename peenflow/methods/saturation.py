@@ -146,9 +146,10 @@ def _fit_shape(model, n, y):
         grid = [np.linspace(-np.log(hi_n) - 5, -np.log(lo_n) + 5, 201)]
         bounds = ([-np.log(hi_n) - 12], [-np.log(lo_n) + 12])
     else:
-        grid = [np.linspace(-np.log(hi_n) * 5 - 5, np.log(lo_n) * 0 + 8, 71),
-                np.linspace(_C_BOUNDS[0], _C_BOUNDS[1], 49)]
-        bounds = ([-np.log(hi_n) * 5 - 12, _C_BOUNDS[0]], [10.0, _C_BOUNDS[1]])
+        # b N^c ~ 1 near saturation, so ln b ~ -c ln N with c up to 5
+        lnb_lo = -_C_BOUNDS[1] * np.log(hi_n)
+        grid = [np.linspace(lnb_lo - 5, 8.0, 71), np.linspace(_C_BOUNDS[0], _C_BOUNDS[1], 49)]
+        bounds = ([lnb_lo - 12, _C_BOUNDS[0]], [10.0, _C_BOUNDS[1]])
     best, best_cost = None, np.inf
     for theta in np.array(np.meshgrid(*grid, indexing="ij")).reshape(len(grid), -1).T:
         amp, r = _project(model, theta, n, y)
