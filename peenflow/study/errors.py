@@ -27,14 +27,14 @@ class Problem:
     key: str  # key path, e.g. "almen.velocities_m_s[2]"; "" for the whole file
     message: str  # what is wrong and what is expected
     file: Path | None = None  # the file the key is in, if not the study file itself
+    value: str | None = None  # the bad value as written in TOML, if there is one
 
     def render(self, study_file: Path | None = None) -> str:
         where = ""
         if self.file is not None and (study_file is None or Path(self.file) != Path(study_file)):
-            where = f"[{_display_file(self.file, study_file)}] "
-        if self.key:
-            return f"{where}{self.key}: {self.message}"
-        return f"{where}{self.message}"
+            where = f"[in {_display_file(self.file, study_file)}] "
+        head = self.key + (f" = {self.value}" if self.value is not None else "")
+        return f"{where}{head}: {self.message}" if head else f"{where}{self.message}"
 
 
 class StudyError(ValueError):
@@ -112,6 +112,10 @@ def suggest(word: str, choices: Iterable[str]) -> str:
     lowered = {c.lower(): c for c in choices}
     if word.lower() in lowered:
         return f'; did you mean "{lowered[word.lower()]}"?'
+    # a unit suffix left off or added ("friction" for "friction_coefficient")
+    prefixed = [c for c in choices if len(word) >= 4 and (c.startswith(word) or word.startswith(c))]
+    if len(prefixed) == 1:
+        return f'; did you mean "{prefixed[0]}"?'
     close = difflib.get_close_matches(word, choices, n=1, cutoff=0.6)
     if not close:
         close = difflib.get_close_matches(word.lower(), list(lowered), n=1, cutoff=0.6)
@@ -175,47 +179,52 @@ def translate(
 ) -> list[Problem]:
     """Turn a pydantic ValidationError into one Problem per error, with key paths."""
     problems: list[Problem] = []
-    for err in error.errors(include_url=False):
+    errors = error.errors(include_url=False)
+    item_locs = [tuple(e["loc"]) for e in errors]
+    for err in errors:
         loc = tuple(err["loc"])
+        if err["type"] == "too_short" and any(len(o) > len(loc) and o[: len(loc)] == loc for o in item_locs):
+            continue  # pydantic counts only the valid items; the bad items are reported already
         key = format_path(tuple(prefix) + loc)
         kind = err["type"]
         value = err.get("input")
         ctx = err.get("ctx") or {}
         parent = _model_at(model, loc[:-1])
+        shown: str | None = format_value(value)
         if kind == "missing":
             doc = _field_doc(parent, loc[-1] if loc else None)
-            msg = "required key is missing" + (f" (expected {doc})" if doc else "")
+            msg, shown = "required key is missing" + (f" (expected {doc})" if doc else ""), None
         elif kind == "extra_forbidden":
             allowed = sorted(parent.model_fields) if parent is not None else []
             name = str(loc[-1]) if loc else ""
             msg = f"unknown key{suggest(name, allowed)}"
             if allowed:
                 msg += f" (valid keys here: {', '.join(allowed)})"
-        elif kind == "value_error":
-            msg = f"{format_value(value)}: {ctx.get('error', err['msg'])}"
-            if not loc or not isinstance(value, (int, float, str, list, tuple)):
-                msg = str(ctx.get("error", err["msg"]))
-        elif kind == "assertion_error":
+        elif kind in ("value_error", "assertion_error"):
             msg = str(ctx.get("error", err["msg"]))
+            if not loc or isinstance(value, dict) or isinstance(value, BaseModel):
+                shown = None  # a whole-table check: its message names the keys
         elif kind in _TYPE_EXPECTED:
             doc = _field_doc(parent, loc[-1] if loc else None)
-            msg = f"{format_value(value)} is a {_type_name(value)}; expected {_TYPE_EXPECTED[kind]}"
+            msg = f"expected {_TYPE_EXPECTED[kind]}, got a {_type_name(value)}"
             if doc and not isinstance(loc[-1], int):
                 msg += f" ({doc})"
+            if isinstance(value, (dict, BaseModel)):
+                shown = None
         elif kind == "literal_error":
-            msg = f"{format_value(value)} is not allowed; expected one of {ctx.get('expected')}"
+            msg = f"expected one of {ctx.get('expected')}"
             if isinstance(value, str):
                 options = [o.strip().strip("'\"") for o in str(ctx.get("expected", "")).replace(" or ", ",").split(",")]
                 msg += suggest(value, [o for o in options if o])
         elif kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
             op = {"greater_than": ">", "greater_than_equal": ">=", "less_than": "<", "less_than_equal": "<="}[kind]
             bound = next(iter(ctx.values()), "?")
-            msg = f"{format_value(value)} is out of range; expected a value {op} {bound}"
+            msg = f"expected a value {op} {bound}"
         elif kind == "too_short":
-            msg = f"{format_value(value)} has too few items; expected at least {ctx.get('min_length')}"
+            msg = f"expected at least {ctx.get('min_length')} item(s)"
         elif kind == "too_long":
-            msg = f"{format_value(value)} has too many items; expected at most {ctx.get('max_length')}"
+            msg = f"expected at most {ctx.get('max_length')} item(s)"
         else:  # anything we did not anticipate: still one line, with the path
-            msg = f"{format_value(value)}: {err['msg']}"
-        problems.append(Problem(key, msg, file))
+            msg = str(err["msg"])
+        problems.append(Problem(key, msg, file, shown))
     return problems

@@ -45,8 +45,8 @@ def parse_intensity(text: str) -> tuple[float, str]:
         value_mm = number * 1e-3 * INCH_MM
     else:
         raise ValueError(
-            f'"{text}" is ambiguous: write "{number * 1000:g}{letter}" for thousandths of an inch, '
-            f'"{number:g} mm{letter}" for millimetres or "{number:g} in{letter}" for inches'
+            f'ambiguous unit: write "{number:g} mm{letter}" for millimetres or "{number:g} in{letter}" '
+            f'for inches (shop notation "12{letter}" means 0.012 in)'
         )
     if value_mm <= 0.0:
         raise ValueError("expected an arc height > 0")

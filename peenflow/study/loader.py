@@ -104,6 +104,9 @@ def _is_number(x: Any) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
+_NO_VALUE = object()
+
+
 @dataclass
 class _Raw:
     """One study file after its extends chain is merged."""
@@ -121,14 +124,17 @@ class _Loader:
         self.suppressed: set[str] = set()
 
     # --- problems ---------------------------------------------------------
-    def add(self, key: str, message: str, file: Path | None = None) -> None:
-        self.problems.append(Problem(key, message, None if file == self.path else file))
+    def add(self, key: str, message: str, file: Path | None = None, value: Any = _NO_VALUE) -> None:
+        shown = None if value is _NO_VALUE else format_value(value)
+        self.problems.append(Problem(key, message, None if file == self.path else file, shown))
+
+    def is_suppressed(self, key: str) -> bool:
+        """Under a reference already reported as unknown or broken."""
+        return any(key == s or key.startswith(s + ".") or key.startswith(s + "[") for s in self.suppressed)
 
     def messages(self) -> list[str]:
         seen, out = set(), []
         for p in self.problems:
-            if any(p.key == s or p.key.startswith(s + ".") or p.key.startswith(s + "[") for s in self.suppressed):
-                continue
             text = p.render(self.path)
             if text not in seen:
                 seen.add(text)
@@ -150,8 +156,7 @@ class _Loader:
 
     def resolve_include(self, spec: Any, base: Path, key: str, file: Path) -> list[Path] | None:
         if not isinstance(spec, str) or not spec:
-            self.add(key, f'{format_value(spec)} is not a file name; expected a string such as "peenflow:library" '
-                     'or "my_materials.toml"', file)
+            self.add(key, 'expected a file name such as "peenflow:library" or "my_materials.toml"', file, spec)
             return None
         if spec.startswith(LIBRARY_PREFIX):
             name = spec[len(LIBRARY_PREFIX):]
@@ -160,12 +165,13 @@ class _Loader:
                 return sorted(LIBRARY_DIR.glob("*.toml"))
             if name in stems:
                 return [LIBRARY_DIR / f"{name}.toml"]
-            self.add(key, f"{format_value(spec)}: no such packaged library{suggest(name, ['library', *stems])} "
-                     f'(expected "peenflow:library" or one of ' + ", ".join(f'"peenflow:{s}"' for s in stems) + ")", file)
+            self.add(key, f"no such packaged library{suggest(name, ['library', *stems])} "
+                     f'(expected "peenflow:library" or one of ' + ", ".join(f'"peenflow:{s}"' for s in stems) + ")",
+                     file, spec)
             return None
         target = (base / spec).resolve()
         if not target.is_file():
-            self.add(key, f"{format_value(spec)}: included file not found (looked for {target})", file)
+            self.add(key, f"included file not found (looked for {target})", file, spec)
             return None
         return [target]
 
@@ -179,7 +185,7 @@ class _Loader:
                 self.add("study", 'missing [study] table (expected at least name = "...")', file)
             table = {}
         elif not isinstance(table, dict):
-            self.add("study", f"{format_value(table)} is not a table; expected a [study] table", file)
+            self.add("study", "expected a [study] table", file, table)
             table = {}
         for key in table:
             if key not in STUDY_KEYS:
@@ -189,8 +195,8 @@ class _Loader:
         includes: list[tuple[str, list[Path]]] = []
         specs = table.get("include", list(DEFAULT_INCLUDE))
         if not isinstance(specs, list):
-            self.add("study.include", f"{format_value(specs)} is a {type(specs).__name__}; expected a list of file "
-                     'names, e.g. ["peenflow:library", "my_materials.toml"]', file)
+            self.add("study.include", 'expected a list of file names, e.g. ["peenflow:library", "my_materials.toml"]',
+                     file, specs)
             specs = []
         for i, spec in enumerate(specs):
             paths = self.resolve_include(spec, file.parent, f"study.include[{i}]", file)
@@ -210,17 +216,15 @@ class _Loader:
         if parent_spec is None:
             return raw
         if not isinstance(parent_spec, str) or not parent_spec:
-            self.add("study.extends", f"{format_value(parent_spec)} is not a file name; expected the path of "
-                     "a parent study file, relative to this one", file)
+            self.add("study.extends", "expected the path of a parent study file, relative to this one", file, parent_spec)
             return raw
         parent_path = (file.parent / parent_spec).resolve()
         if parent_path == file.resolve() or parent_path in [c.resolve() for c in chain]:
             loop = " -> ".join(p.name for p in (*chain, file, parent_path))
-            self.add("study.extends", f"{format_value(parent_spec)}: circular extends ({loop})", file)
+            self.add("study.extends", f"circular extends ({loop}); expected a chain without loops", file, parent_spec)
             return raw
         if not parent_path.is_file():
-            self.add("study.extends", f"{format_value(parent_spec)}: parent study file not found "
-                     f"(looked for {parent_path})", file)
+            self.add("study.extends", f"parent study file not found (looked for {parent_path})", file, parent_spec)
             return raw
         parent = self.read_study(parent_path, (*chain, file))
         if parent is None:
@@ -260,12 +264,11 @@ class _Loader:
                 if table is None:
                     continue
                 if not isinstance(table, dict):
-                    self.add(kind, f"{format_value(table)} is not a table; expected [{kind}.NAME] tables", file)
+                    self.add(kind, f"expected [{kind}.NAME] tables", file, table)
                     continue
                 for name, entry in table.items():
                     if not isinstance(entry, dict):
-                        self.add(f"{kind}.{name}", f"{format_value(entry)} is not a table; expected a "
-                                 f"[{kind}.{name}] table", file)
+                        self.add(f"{kind}.{name}", f"expected a [{kind}.{name}] table", file, entry)
                         continue
                     merged[kind][name] = deep_merge(merged[kind].get(name, {}), entry)
                     origin[(kind, name)] = file
@@ -284,9 +287,9 @@ class _Loader:
                     items[kind][name] = model.model_validate(_tupleize(entry))
                 except ValidationError as exc:
                     broken[kind].add(name)
-                    for p in translate(exc, model, (kind, name), file):
-                        if ok or not p.key.startswith(f"strips.{name}.material"):
-                            self.add(p.key, p.message, p.file)
+                    for p in translate(exc, model, (kind, name), None if file == self.path else file):
+                        if not self.is_suppressed(p.key):
+                            self.problems.append(p)
                 if not ok:
                     broken[kind].add(name)
                     items[kind].pop(name, None)
@@ -308,8 +311,8 @@ class _Loader:
             if value in broken[kind]:
                 return False  # its own problems are already reported where it is defined
             known = sorted(items[kind]) + sorted(broken[kind])
-            self.add(path, f"{format_value(value)}: unknown {SINGULAR[kind]}{suggest(value, known)} "
-                     f"(known: {', '.join(known) if known else 'none; include peenflow:library?'})", file)
+            self.add(path, f"unknown {SINGULAR[kind]}{suggest(value, known)} "
+                     f"(known: {', '.join(known) if known else 'none; include peenflow:library?'})", file, value)
             return False
         if isinstance(value, dict):  # inline definition
             value = dict(value)
@@ -355,7 +358,7 @@ class _Loader:
                     sections[name] = model()
                 continue
             if not isinstance(value, dict):
-                self.add(name, f"{format_value(value)} is not a table; expected a [{name}] section")
+                self.add(name, f"expected a [{name}] section (a table)", value=value)
                 failed.add(name)
                 continue
             validated = self.validate(model, value, name)
@@ -383,7 +386,8 @@ class _Loader:
             return model.model_validate(_tupleize(value))
         except ValidationError as exc:
             for p in translate(exc, model, (prefix,)):
-                self.add(p.key, p.message)
+                if not self.is_suppressed(p.key):
+                    self.problems.append(p)
             return None
 
     def fill_dmin_defaults(self, data: dict) -> None:
@@ -394,10 +398,10 @@ class _Loader:
         dmin = dict(dmin)
         velocities, angles = almen.get("velocities_m_s"), almen.get("angles_deg")
         if "strip_velocity_m_s" not in dmin and isinstance(velocities, list) and velocities \
-                and all(_is_number(v) for v in velocities):
+                and all(_is_number(v) and v > 0 for v in velocities):
             dmin["strip_velocity_m_s"] = float(max(velocities))
         if "strip_angles_deg" not in dmin and isinstance(angles, list) and angles \
-                and all(_is_number(a) for a in angles):
+                and all(_is_number(a) and 0 < a <= 90 for a in angles):
             dmin["strip_angles_deg"] = sorted({float(min(angles)), float(max(angles))})
         data["dmin"] = dmin
 
@@ -417,19 +421,20 @@ class _Loader:
                     self.add(where, f"the target intensity is on strip {target.intensity_strip} but the control "
                              f'curves are computed on almen.strip = "{almen.strip.name}"; expected the same strip type')
                 if len(almen.velocities_m_s) < 2:
-                    self.add("almen.velocities_m_s", f"{format_value(almen.velocities_m_s)}: a control curve needs "
-                             "at least 2 velocities to find the target's velocity")
+                    self.add("almen.velocities_m_s", "a control curve needs at least 2 velocities to find the "
+                             "target's velocity", value=almen.velocities_m_s)
                 lo, hi = almen.angles_deg[0], almen.angles_deg[-1]
                 if target.control_angle_rule == "interpolate" and not lo <= target.angle_deg <= hi:
-                    self.add("target.angle_deg", f"{target.angle_deg!r} is outside the control-curve angles "
-                             f"[{lo!r}, {hi!r}]; expected an angle in that range, or control_angle_rule = \"nearest\"")
+                    self.add("target.angle_deg", "outside the control-curve angles "
+                             f"[{lo!r}, {hi!r}]; expected an angle in that range, or control_angle_rule = \"nearest\"",
+                             value=target.angle_deg)
             if target.measured_profile_csv:
                 self.check_profile(Path(target.measured_profile_csv))
         if fidelity is not None and shot is not None:
             if fidelity.element_size_um * 1e-3 >= 0.5 * shot.diameter_mm:
-                self.add("fidelity.element_size_um", f"{fidelity.element_size_um!r}: an element as large as the "
+                self.add("fidelity.element_size_um", "an element as large as the "
                          f"shot radius ({0.5 * shot.diameter_mm * 1e3:g} um) cannot resolve a dent; expected a "
-                         "much smaller element")
+                         "much smaller element", value=fidelity.element_size_um)
             depth_mm = fidelity.fine_depth_mm if fidelity.fine_depth_mm is not None \
                 else fidelity.fine_depth_D * shot.diameter_mm
             if depth_mm * 1e3 < fidelity.element_size_um:
@@ -440,7 +445,8 @@ class _Loader:
     def check_profile(self, file: Path) -> None:
         key = "target.measured_profile_csv"
         if not file.is_file():
-            self.add(key, f"{format_value(str(file))}: measured profile not found")
+            self.add(key, "measured profile not found; expected an existing CSV file (or \"\" for none)",
+                     value=str(file))
             return
         with open(file, newline="") as fh:
             rows = [r for r in csv.reader(line for line in fh if line.strip() and not line.lstrip().startswith("#"))]
