@@ -65,6 +65,11 @@ class Study(StudyModel):
         for section in (self.almen, self.dmin, self.target, self.fidelity):
             if section is not None:
                 section._shot_diameter_m = d
+        # Fix the measured profile's content now: the key must not change under a loaded study.
+        if self.target is not None and self.target.measured_profile_csv:
+            csv = Path(self.target.measured_profile_csv)
+            if csv.is_file():
+                self.target._profile_sha256 = hashlib.sha256(csv.read_bytes()).hexdigest()
         return self
 
     # --- identity --------------------------------------------------------
@@ -148,10 +153,8 @@ class Study(StudyModel):
             target.pop("almen_intensity")
             target["almen_intensity_mm"] = self.target.intensity_mm
             target["almen_strip"] = self.target.intensity_strip
-            csv = target.pop("measured_profile_csv")
-            target["measured_profile_sha256"] = (
-                hashlib.sha256(Path(csv).read_bytes()).hexdigest() if csv else ""
-            )
+            target.pop("measured_profile_csv")
+            target["measured_profile_sha256"] = self.target.measured_profile_sha256
         return canonical(out)
 
     def canonical_json(self) -> str:

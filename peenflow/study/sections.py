@@ -11,7 +11,7 @@ from __future__ import annotations
 import hashlib
 from typing import Annotated, Any, Literal, Optional
 
-from pydantic import AfterValidator, Field, model_validator
+from pydantic import AfterValidator, Field, PrivateAttr, model_validator
 
 from .intensity import parse_intensity
 from .items import Material, Shot, Strip
@@ -274,6 +274,8 @@ class Target(ShotScaled):
         "", description="CSV with columns depth_mm, stress_MPa, component for the comparison (\"\" = none)"
     )
 
+    _profile_sha256: str = PrivateAttr(default="")
+
     @model_validator(mode="after")
     def _consistent(self) -> "Target":
         given = [k for k in ("almen_intensity", "almen_intensity_mm", "velocity_m_s") if getattr(self, k) is not None]
@@ -307,6 +309,11 @@ class Target(ShotScaled):
         return self
 
     # --- resolved values -------------------------------------------------
+    @property
+    def measured_profile_sha256(self) -> str:
+        """SHA-256 of the measured-profile CSV as it was when the study was loaded ("" if none)."""
+        return self._profile_sha256
+
     @property
     def intensity_mm(self) -> float | None:
         """Target Almen intensity (saturation arc height) in mm; None with a velocity override."""
