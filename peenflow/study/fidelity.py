@@ -1,0 +1,149 @@
+"""Numerical fidelity: mesh, time step, contact, tolerances, precision.
+
+A study picks a named preset (``[fidelity] preset = "standard"``) and may
+override any key; the loaded :class:`Fidelity` holds every resolved value, so
+a result records exactly which fidelity made it. Preset numbers are starting
+points; the benchmarks (run time vs error) are where they get tuned.
+"""
+
+from __future__ import annotations
+
+from typing import Literal, Optional
+
+from pydantic import Field, model_validator
+
+from typing import Annotated
+
+from .types import GradingRatio, NonNegative, OpenFraction, Positive, SafetyFactor, ShotScaled, check
+
+__all__ = ["Fidelity", "PRESETS", "DEFAULT_PRESET", "expand_preset"]
+
+ContactFactor = Annotated[
+    float,
+    check(lambda x: 0 < x <= 2.0, "a contact stiffness factor in (0, 2] (penalty slope = factor * E / h; "
+          "slopes above 2 E/h made the contact chatter)"),
+]
+
+DEFAULT_PRESET = "standard"
+
+# Resolved values of every preset. "paper" is the paper's resolution (25 um
+# fine mesh) with no unmeasured shortcut (window off).
+PRESETS: dict[str, dict[str, object]] = {
+    "coarse": {
+        "element_size_um": 60.0,
+        "fine_depth_D": 0.75,
+        "grading_ratio": 1.2,
+        "time_step_safety": 0.9,
+        "window_size_D": 3.0,
+        "settle_tolerance": 1e-2,
+        "relaxation_tolerance": 1e-3,
+        "contact_stiffness_factor": 1.0,
+        "precision": "float64",
+        "lateral_boundary": "symmetric",
+    },
+    "standard": {
+        "element_size_um": 40.0,
+        "fine_depth_D": 1.0,
+        "grading_ratio": 1.15,
+        "time_step_safety": 0.8,
+        "window_size_D": 4.0,
+        "settle_tolerance": 1e-3,
+        "relaxation_tolerance": 1e-4,
+        "contact_stiffness_factor": 1.0,
+        "precision": "float64",
+        "lateral_boundary": "symmetric",
+    },
+    "paper": {
+        "element_size_um": 25.0,
+        "fine_depth_D": 1.0,
+        "grading_ratio": 1.1,
+        "time_step_safety": 0.8,
+        "window_size_D": 0.0,
+        "settle_tolerance": 1e-3,
+        "relaxation_tolerance": 1e-5,
+        "contact_stiffness_factor": 1.0,
+        "precision": "float64",
+        "lateral_boundary": "symmetric",
+    },
+}
+
+# Keys of which a study gives one or the other; a user value for one drops
+# the preset's value for its partner.
+_EXCLUSIVE = {"fine_depth_D": "fine_depth_mm", "fine_depth_mm": "fine_depth_D"}
+
+
+def expand_preset(raw: dict) -> dict:
+    """The user's [fidelity] table laid over its preset's values.
+
+    An unknown preset name is left for validation to report; the standard
+    preset's values fill in meanwhile, so other keys are still checked.
+    """
+    preset = raw.get("preset", DEFAULT_PRESET)
+    base = dict(PRESETS.get(preset, PRESETS[DEFAULT_PRESET])) if isinstance(preset, str) else dict(PRESETS[DEFAULT_PRESET])
+    for key, partner in _EXCLUSIVE.items():
+        if key in raw:
+            base.pop(partner, None)
+    merged = {**base, **raw}
+    merged.setdefault("preset", DEFAULT_PRESET)
+    overrides = tuple(sorted(k for k in raw if k != "preset" and base.get(k, object()) != raw[k]))
+    merged["overrides"] = overrides
+    return merged
+
+
+class Fidelity(ShotScaled):
+    """Resolved fidelity settings (preset values with the study's overrides)."""
+
+    preset: Literal["coarse", "standard", "paper"] = Field(
+        DEFAULT_PRESET, description='a preset name: "coarse", "standard" or "paper"', exclude=True
+    )
+    overrides: tuple[str, ...] = Field((), exclude=True)
+    element_size_um: Positive = Field(description="edge of the cubic elements of the fine zone in um")
+    fine_depth_D: Optional[Positive] = Field(None, description="depth of the uniform fine zone in shot diameters")
+    fine_depth_mm: Optional[Positive] = Field(None, description="depth of the uniform fine zone in mm")
+    grading_ratio: GradingRatio = Field(description="size ratio of neighbouring elements outside the fine zone, in [1, 1.2]")
+    time_step_safety: SafetyFactor = Field(description="stable time step multiplier in (0, 1]")
+    window_size_D: NonNegative = Field(
+        description="side of the active window around an impact in shot diameters (0 = whole REV every step)"
+    )
+    settle_tolerance: OpenFraction = Field(
+        description="target kinetic energy, as a fraction of one shot's, below which the next shot may arrive"
+    )
+    relaxation_tolerance: OpenFraction = Field(
+        description="kinetic energy fraction at which the final dynamic relaxation stops"
+    )
+    contact_stiffness_factor: ContactFactor = Field(description="penalty slope in units of E / h")
+    precision: Literal["float64", "float32"] = Field(description='"float64" or "float32" kernel state')
+    lateral_boundary: Literal["symmetric", "periodic"] = Field(
+        description='lateral REV faces: "symmetric" (the paper) or "periodic"'
+    )
+
+    @model_validator(mode="after")
+    def _one_depth(self) -> "Fidelity":
+        if (self.fine_depth_D is None) == (self.fine_depth_mm is None):
+            raise ValueError("give exactly one of fine_depth_D and fine_depth_mm")
+        if self.window_size_D != 0.0 and self.window_size_D < 1.0:
+            raise ValueError(
+                f"window_size_D = {self.window_size_D!r}: expected 0 (no window) or a window of at least 1 shot diameter"
+            )
+        return self
+
+    # SI helpers; the shot diameter is set by the Study after loading.
+    @property
+    def element_size_m(self) -> float:
+        return self.element_size_um * 1e-6
+
+    @property
+    def fine_depth_m(self) -> float:
+        if self.fine_depth_mm is not None:
+            return self.fine_depth_mm * 1e-3
+        return self.fine_depth_D * self.shot_diameter_m
+
+    @property
+    def dtype(self) -> str:
+        return self.precision
+
+    def describe(self) -> str:
+        """'standard' or 'standard + element_size_um=30' (for logs and provenance)."""
+        if not self.overrides:
+            return self.preset
+        return self.preset + " + " + ", ".join(f"{k}={getattr(self, k)!r}" for k in self.overrides)

@@ -1,0 +1,477 @@
+"""Reading a study file: TOML, extends, includes, references, validation.
+
+Pipeline (every step collects problems instead of stopping at the first):
+
+1. read the TOML of the study file, then of each parent named by
+   ``study.extends`` (relative to the file that names it; cycles reported);
+   deep-merge parent <- child (child wins, lists replaced whole, includes
+   accumulated, name/description not inherited);
+2. read the included libraries (``peenflow:library`` = the packaged one,
+   other entries relative to the including file) and the study's own
+   ``[materials.*]``, ``[shots.*]``, ``[strips.*]`` tables, later ones
+   deep-merged over earlier ones; validate every item;
+3. replace names (``target.material = "Al7075-T73"``) by the items, or
+   validate inline tables; expand the fidelity preset; fill defaults that
+   depend on other sections (dmin strip velocity and angles);
+4. validate each section on its own (so one broken section does not hide
+   another's problems), then the checks that span sections;
+5. build the frozen :class:`Study`, or raise one :class:`StudyError`.
+"""
+
+from __future__ import annotations
+
+import copy
+import csv
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from pydantic import BaseModel, ValidationError
+
+from .errors import Problem, StudyError, format_value, suggest, translate
+from .fidelity import Fidelity, expand_preset
+from .items import Material, Shot, Strip
+from .model import Study, StudyInfo
+from .sections import Almen, Coverage, Dmin, Execution, Seeds, ShotSection, Target
+
+__all__ = ["load_study", "validate_study", "LIBRARY_DIR", "LIBRARY_PREFIX", "PROFILE_COMPONENTS"]
+
+LIBRARY_DIR = Path(__file__).resolve().parent / "library"
+LIBRARY_PREFIX = "peenflow:"
+DEFAULT_INCLUDE = (LIBRARY_PREFIX + "library",)
+
+SECTIONS: dict[str, type[BaseModel]] = {
+    "shot": ShotSection,
+    "almen": Almen,
+    "dmin": Dmin,
+    "coverage": Coverage,
+    "target": Target,
+    "fidelity": Fidelity,
+    "seeds": Seeds,
+    "execution": Execution,
+}
+REGISTRY: dict[str, type[BaseModel]] = {"materials": Material, "shots": Shot, "strips": Strip}
+SINGULAR = {"materials": "material", "shots": "shot", "strips": "Almen strip"}
+STUDY_KEYS = ("name", "description", "include", "extends")
+TOP_KEYS = ("study", *SECTIONS, *REGISTRY)
+# Where a section names a library item: (section, key, registry kind).
+REFERENCES = (("shot", "type", "shots"), ("almen", "strip", "strips"), ("target", "material", "materials"))
+PROFILE_COLUMNS = ("depth_mm", "stress_MPa", "component")
+PROFILE_COMPONENTS = ("xx", "yy", "zz", "xy", "yz", "xz")
+
+
+def load_study(path: str | Path) -> Study:
+    """Load and validate a study file; raise StudyError listing every problem."""
+    loader = _Loader(Path(path))
+    study = loader.run()
+    if loader.problems or study is None:
+        raise StudyError(loader.path, loader.messages())
+    return study
+
+
+def validate_study(path: str | Path) -> list[str]:
+    """Every problem of a study file, one message each; [] when it is valid."""
+    loader = _Loader(Path(path))
+    loader.run()
+    return loader.messages()
+
+
+# ---------------------------------------------------------------------------
+
+
+def deep_merge(base: dict, over: dict) -> dict:
+    """base <- over: tables merge key by key, everything else (lists too) is replaced."""
+    out = copy.deepcopy(base)
+    for key, value in over.items():
+        if isinstance(value, dict) and isinstance(out.get(key), dict):
+            out[key] = deep_merge(out[key], value)
+        else:
+            out[key] = copy.deepcopy(value)
+    return out
+
+
+def _tupleize(value: Any) -> Any:
+    """TOML arrays -> tuples (the models are frozen and strict)."""
+    if isinstance(value, dict):
+        return {k: _tupleize(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return tuple(_tupleize(v) for v in value)
+    return value
+
+
+def _is_number(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
+_NO_VALUE = object()
+
+
+@dataclass
+class _Raw:
+    """One study file after its extends chain is merged."""
+
+    data: dict
+    info: dict
+    includes: list[tuple[str, list[Path]]] = field(default_factory=list)
+    chain: list[Path] = field(default_factory=list)
+
+
+class _Loader:
+    def __init__(self, path: Path):
+        self.path = Path(path).absolute()
+        self.problems: list[Problem] = []
+        self.suppressed: set[str] = set()
+
+    # --- problems ---------------------------------------------------------
+    def add(self, key: str, message: str, file: Path | None = None, value: Any = _NO_VALUE) -> None:
+        shown = None if value is _NO_VALUE else format_value(value)
+        self.problems.append(Problem(key, message, None if file == self.path else file, shown))
+
+    def is_suppressed(self, key: str) -> bool:
+        """Under a reference already reported as unknown or broken."""
+        return any(key == s or key.startswith(s + ".") or key.startswith(s + "[") for s in self.suppressed)
+
+    def messages(self) -> list[str]:
+        seen, out = set(), []
+        for p in self.problems:
+            text = p.render(self.path)
+            if text not in seen:
+                seen.add(text)
+                out.append(text)
+        return out
+
+    # --- files --------------------------------------------------------------
+    def read_toml(self, file: Path, key: str = "", referrer: Path | None = None) -> dict | None:
+        try:
+            with open(file, "rb") as fh:
+                return tomllib.load(fh)
+        except FileNotFoundError:
+            self.add(key, f"file not found: {file}", referrer)
+        except tomllib.TOMLDecodeError as exc:
+            self.add("", f"TOML syntax error in {file.name}: {exc}", file)
+        except OSError as exc:
+            self.add(key, f"cannot read {file}: {exc}", referrer)
+        return None
+
+    def resolve_include(self, spec: Any, base: Path, key: str, file: Path) -> list[Path] | None:
+        if not isinstance(spec, str) or not spec:
+            self.add(key, 'expected a file name such as "peenflow:library" or "my_materials.toml"', file, spec)
+            return None
+        if spec.startswith(LIBRARY_PREFIX):
+            name = spec[len(LIBRARY_PREFIX):]
+            stems = sorted(p.stem for p in LIBRARY_DIR.glob("*.toml"))
+            if name == "library":
+                return sorted(LIBRARY_DIR.glob("*.toml"))
+            if name in stems:
+                return [LIBRARY_DIR / f"{name}.toml"]
+            self.add(key, f"no such packaged library{suggest(name, ['library', *stems])} "
+                     f'(expected "peenflow:library" or one of ' + ", ".join(f'"peenflow:{s}"' for s in stems) + ")",
+                     file, spec)
+            return None
+        target = (base / spec).resolve()
+        if not target.is_file():
+            self.add(key, f"included file not found (looked for {target})", file, spec)
+            return None
+        return [target]
+
+    def read_study(self, file: Path, chain: tuple[Path, ...]) -> _Raw | None:
+        data = self.read_toml(file, "study.extends" if chain else "", chain[-1] if chain else None)
+        if data is None:
+            return None
+        table = data.pop("study", None)
+        if table is None:
+            if not chain:
+                self.add("study", 'missing [study] table (expected at least name = "...")', file)
+            table = {}
+        elif not isinstance(table, dict):
+            self.add("study", "expected a [study] table", file, table)
+            table = {}
+        for key in table:
+            if key not in STUDY_KEYS:
+                self.add(f"study.{key}", f"unknown key{suggest(key, STUDY_KEYS)} (valid keys here: "
+                         f"{', '.join(STUDY_KEYS)})", file)
+
+        includes: list[tuple[str, list[Path]]] = []
+        specs = table.get("include", list(DEFAULT_INCLUDE))
+        if not isinstance(specs, list):
+            self.add("study.include", 'expected a list of file names, e.g. ["peenflow:library", "my_materials.toml"]',
+                     file, specs)
+            specs = []
+        for i, spec in enumerate(specs):
+            paths = self.resolve_include(spec, file.parent, f"study.include[{i}]", file)
+            if paths is not None:
+                shown = spec if spec.startswith(LIBRARY_PREFIX) else str(paths[0])
+                includes.append((shown, paths))
+
+        # Paths in a file are relative to that file, whoever extends it.
+        target = data.get("target")
+        if isinstance(target, dict) and isinstance(target.get("measured_profile_csv"), str):
+            if target["measured_profile_csv"]:
+                target["measured_profile_csv"] = str((file.parent / target["measured_profile_csv"]).resolve())
+
+        info = {k: table[k] for k in ("name", "description", "extends") if k in table}
+        raw = _Raw(data=data, info=info, includes=includes, chain=[file])
+        parent_spec = table.get("extends")
+        if parent_spec is None:
+            return raw
+        if not isinstance(parent_spec, str) or not parent_spec:
+            self.add("study.extends", "expected the path of a parent study file, relative to this one", file, parent_spec)
+            return raw
+        parent_path = (file.parent / parent_spec).resolve()
+        if parent_path == file.resolve() or parent_path in [c.resolve() for c in chain]:
+            loop = " -> ".join(p.name for p in (*chain, file, parent_path))
+            self.add("study.extends", f"circular extends ({loop}); expected a chain without loops", file, parent_spec)
+            return raw
+        if not parent_path.is_file():
+            self.add("study.extends", f"parent study file not found (looked for {parent_path})", file, parent_spec)
+            return raw
+        parent = self.read_study(parent_path, (*chain, file))
+        if parent is None:
+            return raw
+        seen = {s for s, _ in parent.includes}
+        merged_includes = parent.includes + [(s, p) for s, p in includes if s not in seen]
+        return _Raw(
+            data=deep_merge(parent.data, data),
+            info=info,
+            includes=merged_includes,
+            chain=[file, *parent.chain],
+        )
+
+    # --- library ----------------------------------------------------------
+    def build_registry(self, raw: _Raw) -> tuple[dict[str, dict[str, BaseModel]], dict[str, set[str]]]:
+        merged: dict[str, dict[str, dict]] = {kind: {} for kind in REGISTRY}
+        origin: dict[tuple[str, str], Path] = {}
+        sources: list[tuple[Path, dict]] = []
+        done: set[Path] = set()
+        for _, paths in raw.includes:
+            for p in paths:
+                if p in done:
+                    continue
+                done.add(p)
+                d = self.read_toml(p)
+                if d is None:
+                    continue
+                for key in d:
+                    if key not in REGISTRY:
+                        self.add(key, f"unknown table in an included file{suggest(key, REGISTRY)}; included files "
+                                 "may only define [materials.*], [shots.*] and [strips.*]", p)
+                sources.append((p, d))
+        sources.append((self.path, {k: raw.data[k] for k in REGISTRY if k in raw.data}))
+        for file, d in sources:
+            for kind in REGISTRY:
+                table = d.get(kind)
+                if table is None:
+                    continue
+                if not isinstance(table, dict):
+                    self.add(kind, f"expected [{kind}.NAME] tables", file, table)
+                    continue
+                for name, entry in table.items():
+                    if not isinstance(entry, dict):
+                        self.add(f"{kind}.{name}", f"expected a [{kind}.{name}] table", file, entry)
+                        continue
+                    merged[kind][name] = deep_merge(merged[kind].get(name, {}), entry)
+                    origin[(kind, name)] = file
+
+        items: dict[str, dict[str, BaseModel]] = {kind: {} for kind in REGISTRY}
+        broken: dict[str, set[str]] = {kind: set() for kind in REGISTRY}
+        for kind in ("materials", "shots", "strips"):  # strips refer to materials
+            model = REGISTRY[kind]
+            for name, entry in merged[kind].items():
+                file = origin[(kind, name)]
+                entry = {**entry, "name": name}
+                ok = True
+                if kind == "strips":
+                    ok = self.resolve_ref(entry, "material", "materials", f"strips.{name}", items, broken, file)
+                try:
+                    items[kind][name] = model.model_validate(_tupleize(entry))
+                except ValidationError as exc:
+                    broken[kind].add(name)
+                    for p in translate(exc, model, (kind, name), None if file == self.path else file):
+                        if not self.is_suppressed(p.key):
+                            self.problems.append(p)
+                if not ok:
+                    broken[kind].add(name)
+                    items[kind].pop(name, None)
+        return items, broken
+
+    def resolve_ref(
+        self, section: dict, key: str, kind: str, prefix: str,
+        items: dict[str, dict[str, BaseModel]], broken: dict[str, set[str]], file: Path | None = None,
+    ) -> bool:
+        """Replace section[key] (a name) by the library item; False if it cannot be."""
+        value = section.get(key)
+        path = f"{prefix}.{key}"
+        if isinstance(value, str):
+            if value in items[kind]:
+                section[key] = items[kind][value]
+                return True
+            self.suppressed.add(path)
+            section[key] = None
+            if value in broken[kind]:
+                return False  # its own problems are already reported where it is defined
+            known = sorted(items[kind]) + sorted(broken[kind])
+            self.add(path, f"unknown {SINGULAR[kind]}{suggest(value, known)} "
+                     f"(known: {', '.join(known) if known else 'none; include peenflow:library?'})", file, value)
+            return False
+        if isinstance(value, dict):  # inline definition
+            value = dict(value)
+            if kind in ("materials", "shots"):
+                value.setdefault("name", f"inline-{SINGULAR[kind]}")
+            if kind == "strips" and "material" in value:
+                self.resolve_ref(value, "material", "materials", path, items, broken, file)
+            section[key] = value
+        return True
+
+    # --- the whole study ----------------------------------------------------
+    def run(self) -> Study | None:
+        raw = self.read_study(self.path, ())
+        if raw is None:
+            return None
+        data = raw.data
+        for key in data:
+            if key not in TOP_KEYS:
+                self.add(key, f"unknown section{suggest(key, TOP_KEYS)} (valid sections: {', '.join(TOP_KEYS)})")
+
+        items, broken = self.build_registry(raw)
+        for section, key, kind in REFERENCES:
+            if isinstance(data.get(section), dict):
+                self.resolve_ref(data[section], key, kind, section, items, broken)
+        if isinstance(data.get("fidelity"), dict):
+            data["fidelity"] = expand_preset(data["fidelity"])
+        self.fill_dmin_defaults(data)
+
+        info = self.validate(StudyInfo, {**raw.info, "include": tuple(s for s, _ in raw.includes)}, "study")
+        sections: dict[str, Any] = {}
+        failed: set[str] = set()
+        for name, model in SECTIONS.items():
+            value = data.get(name)
+            if value is None:
+                if name == "shot":
+                    self.add("shot", 'missing [shot] section (expected type = "S230" or another shot)')
+                    failed.add(name)
+                elif name == "fidelity":
+                    sections[name] = Fidelity.model_validate(expand_preset({}))
+                elif name in ("almen", "target"):
+                    sections[name] = None
+                else:
+                    sections[name] = model()
+                continue
+            if not isinstance(value, dict):
+                self.add(name, f"expected a [{name}] section (a table)", value=value)
+                failed.add(name)
+                continue
+            validated = self.validate(model, value, name)
+            if validated is None:
+                failed.add(name)
+            else:
+                sections[name] = validated
+
+        self.cross_checks(sections, failed)
+        if self.problems or info is None or failed:
+            return None
+        try:
+            return Study(
+                info=info,
+                path=str(self.path),
+                extends_chain=tuple(str(p) for p in raw.chain),
+                **sections,
+            )
+        except ValidationError as exc:  # should not happen: sections are valid
+            self.problems += translate(exc, Study)
+            return None
+
+    def validate(self, model: type[BaseModel], value: dict, prefix: str) -> BaseModel | None:
+        try:
+            return model.model_validate(_tupleize(value))
+        except ValidationError as exc:
+            for p in translate(exc, model, (prefix,)):
+                if not self.is_suppressed(p.key):
+                    self.problems.append(p)
+            return None
+
+    def fill_dmin_defaults(self, data: dict) -> None:
+        """dmin.strip_velocity_m_s / strip_angles_deg default to the extremes of the almen sweep."""
+        almen, dmin = data.get("almen"), data.get("dmin", {})
+        if not isinstance(almen, dict) or not isinstance(dmin, dict):
+            return
+        dmin = dict(dmin)
+        velocities, angles = almen.get("velocities_m_s"), almen.get("angles_deg")
+        if "strip_velocity_m_s" not in dmin and isinstance(velocities, list) and velocities \
+                and all(_is_number(v) and v > 0 for v in velocities):
+            dmin["strip_velocity_m_s"] = float(max(velocities))
+        if "strip_angles_deg" not in dmin and isinstance(angles, list) and angles \
+                and all(_is_number(a) and 0 < a <= 90 for a in angles):
+            dmin["strip_angles_deg"] = sorted({float(min(angles)), float(max(angles))})
+        data["dmin"] = dmin
+
+    def cross_checks(self, s: dict[str, Any], failed: set[str]) -> None:
+        almen, target, shot, fidelity = s.get("almen"), s.get("target"), s.get("shot"), s.get("fidelity")
+        if almen is None and target is None and not ({"almen", "target"} & failed):
+            self.add("", "nothing to compute: add an [almen] section (control curves) and/or a [target] section")
+        if target is not None:
+            uses_curve = target.velocity_m_s is None
+            key = "target.almen_intensity" if target.almen_intensity is not None else "target.almen_intensity_mm"
+            if uses_curve and almen is None and "almen" not in failed:
+                self.add(key, "a target intensity needs control curves: add an [almen] section, or give "
+                         "target.velocity_m_s instead")
+            if uses_curve and almen is not None:
+                if target.intensity_strip != almen.strip.name:
+                    where = "target.almen_strip" if target.almen_strip is not None else key
+                    self.add(where, f"the target intensity is on strip {target.intensity_strip} but the control "
+                             f'curves are computed on almen.strip = "{almen.strip.name}"; expected the same strip type')
+                if len(almen.velocities_m_s) < 2:
+                    self.add("almen.velocities_m_s", "a control curve needs at least 2 velocities to find the "
+                             "target's velocity", value=almen.velocities_m_s)
+                lo, hi = almen.angles_deg[0], almen.angles_deg[-1]
+                if target.control_angle_rule == "interpolate" and not lo <= target.angle_deg <= hi:
+                    self.add("target.angle_deg", "outside the control-curve angles "
+                             f"[{lo!r}, {hi!r}]; expected an angle in that range, or control_angle_rule = \"nearest\"",
+                             value=target.angle_deg)
+            if target.measured_profile_csv:
+                self.check_profile(Path(target.measured_profile_csv))
+        if fidelity is not None and shot is not None:
+            if fidelity.element_size_um * 1e-3 >= 0.5 * shot.diameter_mm:
+                self.add("fidelity.element_size_um", "an element as large as the "
+                         f"shot radius ({0.5 * shot.diameter_mm * 1e3:g} um) cannot resolve a dent; expected a "
+                         "much smaller element", value=fidelity.element_size_um)
+            depth_mm = fidelity.fine_depth_mm if fidelity.fine_depth_mm is not None \
+                else fidelity.fine_depth_D * shot.diameter_mm
+            if depth_mm * 1e3 < fidelity.element_size_um:
+                key = "fidelity.fine_depth_mm" if fidelity.fine_depth_mm is not None else "fidelity.fine_depth_D"
+                self.add(key, f"the fine zone ({depth_mm * 1e3:g} um deep) is thinner than one element "
+                         f"({fidelity.element_size_um:g} um); expected at least one element")
+
+    def check_profile(self, file: Path) -> None:
+        key = "target.measured_profile_csv"
+        if not file.is_file():
+            self.add(key, "measured profile not found; expected an existing CSV file (or \"\" for none)",
+                     value=str(file))
+            return
+        with open(file, newline="") as fh:
+            rows = [r for r in csv.reader(line for line in fh if line.strip() and not line.lstrip().startswith("#"))]
+        if not rows:
+            self.add(key, f"{file.name} is empty; expected a header row {', '.join(PROFILE_COLUMNS)}")
+            return
+        header = [h.strip() for h in rows[0]]
+        missing = [c for c in PROFILE_COLUMNS if c not in header]
+        if missing:
+            self.add(key, f"{file.name}: header {header} lacks column(s) {', '.join(missing)}; "
+                     f"expected {', '.join(PROFILE_COLUMNS)}")
+            return
+        idx = {c: header.index(c) for c in PROFILE_COLUMNS}
+        bad = []
+        for n, row in enumerate(rows[1:], start=2):
+            try:
+                depth = float(row[idx["depth_mm"]])
+                float(row[idx["stress_MPa"]])
+                comp = row[idx["component"]].strip()
+                ok = depth >= 0 and comp in PROFILE_COMPONENTS
+            except (ValueError, IndexError):
+                ok = False
+            if not ok:
+                bad.append(n)
+        if bad:
+            shown = ", ".join(map(str, bad[:5])) + (" ..." if len(bad) > 5 else "")
+            self.add(key, f"{file.name}: bad data on row(s) {shown}; expected depth_mm >= 0, stress_MPa a number, "
+                     f"component one of {', '.join(PROFILE_COMPONENTS)}")

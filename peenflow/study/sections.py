@@ -1,0 +1,405 @@
+"""The sections of a study file: [shot], [almen], [dmin], [coverage],
+[target], [seeds], [execution]. ([fidelity] lives in fidelity.py.)
+
+Each section is a frozen model whose fields are the file's unit-named keys;
+properties give SI values. Sections with lengths in shot diameters (``*_D``)
+know the shot diameter once the Study is loaded.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from typing import Annotated, Any, Literal, Optional
+
+from pydantic import AfterValidator, Field, PrivateAttr, model_validator
+
+from .intensity import parse_intensity
+from .items import Material, Shot, Strip
+from .types import (
+    Angle, OpenFraction, Positive, PositiveInt, ShotScaled, StudyModel, Velocity, check,
+    strictly_increasing, unique_sorted,
+)
+
+__all__ = ["ShotSection", "Almen", "Dmin", "Coverage", "Target", "Seeds", "Execution"]
+
+
+class ShotSection(StudyModel):
+    """[shot]: which shot, and the shot-target friction."""
+
+    type: Shot = Field(description='a shot name from the library (e.g. "S230") or an inline table')
+    friction_coefficient: Annotated[
+        float, check(lambda x: 0 <= x <= 1, "a Coulomb friction coefficient in [0, 1]")
+    ] = Field(0.2, description="Coulomb friction coefficient shot-target")
+
+    # Convenience: the shot's own properties, so study.shot.diameter_m works.
+    @property
+    def name(self) -> str:
+        return self.type.name
+
+    @property
+    def diameter_mm(self) -> float:
+        return self.type.diameter_mm
+
+    @property
+    def diameter_m(self) -> float:
+        return self.type.diameter_m
+
+    @property
+    def radius_m(self) -> float:
+        return self.type.radius_m
+
+    @property
+    def density_kg_m3(self) -> float:
+        return self.type.density_kg_m3
+
+    @property
+    def mass_kg(self) -> float:
+        return self.type.mass_kg
+
+
+def _rev_rule_default(data: Any) -> Any:
+    if isinstance(data, dict) and data.get("rev_rule") is None:
+        data = dict(data)
+        data["rev_rule"] = "explicit" if data.get("rev_size_mm") is not None else "dmin"
+    return data
+
+
+def _check_rev(section: str, rule: str, rev_size_mm, measure_size_mm, allowed: tuple[str, ...]) -> None:
+    if rule == "explicit" and rev_size_mm is None:
+        raise ValueError(f'{section}.rev_rule = "explicit" needs rev_size_mm')
+    if rule != "explicit" and rev_size_mm is not None:
+        raise ValueError(
+            f'{section}.rev_size_mm is given but rev_rule = "{rule}"; give one or the other '
+            '(rev_size_mm alone means rev_rule = "explicit")'
+        )
+    if rule != "explicit" and measure_size_mm is not None:
+        raise ValueError(f"{section}.measure_size_mm is only used with rev_size_mm (rev_rule = \"explicit\")")
+    if rev_size_mm is not None and measure_size_mm is not None and measure_size_mm > rev_size_mm:
+        raise ValueError(
+            f"{section}.measure_size_mm = {measure_size_mm!r} is larger than rev_size_mm = {rev_size_mm!r}"
+        )
+
+
+class Almen(ShotScaled):
+    """[almen]: the control-curve sweep on an Almen strip REV (paper section 4).
+
+    For every angle x velocity x sequence, one strip REV run with the shot
+    ladder ``shot_counts`` (snapshots of one run, or separate runs) gives arc
+    heights (eqs. (6)-(9)), a saturation curve (eqs. (10)-(11)) and so the
+    intensity; intensity vs velocity per angle is the control curve.
+    """
+
+    strip: Strip = Field(description='an Almen strip name ("N", "A", "C") or an inline table')
+    angles_deg: Annotated[tuple[Angle, ...], Field(min_length=1), unique_sorted("angles")] = Field(
+        description="impingement angles in degrees, e.g. [45, 67.5, 90]"
+    )
+    velocities_m_s: Annotated[tuple[Velocity, ...], Field(min_length=1), unique_sorted("velocities")] = Field(
+        description="shot velocities in m/s, e.g. [25, 35, 45, 55]"
+    )
+    shot_counts: Annotated[
+        tuple[PositiveInt, ...], Field(min_length=3), strictly_increasing("shot counts")
+    ] = Field(description="the saturation ladder, e.g. [10, 20, 40, 80, 160, 320, 480] (at least 3 for eq. (10))")
+    sequences: PositiveInt = Field(6, description="number of random shot sequences per (angle, velocity)")
+    rev_rule: Literal["dmin", "paper", "explicit"] = Field(
+        description='"dmin": side 3 d_min from the two-shot search; "paper": 6D x 6D with a 2D x 2D '
+        'measuring region (section 4.1); "explicit": rev_size_mm'
+    )
+    rev_size_mm: Optional[Positive] = Field(None, description="REV side in mm (implies rev_rule = \"explicit\")")
+    measure_size_mm: Optional[Positive] = Field(None, description="measuring-region side in mm (default rev_size_mm / 3)")
+    saturation_fit: Literal["paper", "exponential_2p", "exponential_3p"] = Field(
+        "paper", description='"paper" (eqs. (10)-(11)) or an SAE J2597-style exponential fit'
+    )
+    interpolation: Literal["pchip", "linear"] = Field(
+        "pchip", description='control-curve interpolation: "pchip" (monotone cubic) or "linear"'
+    )
+
+    _fill_rule = model_validator(mode="before")(_rev_rule_default)
+
+    @model_validator(mode="after")
+    def _rev(self) -> "Almen":
+        _check_rev("almen", self.rev_rule, self.rev_size_mm, self.measure_size_mm, ())
+        if self.rev_size_mm is not None and self.rev_size_mm > self.strip.width_mm:
+            raise ValueError(
+                f"almen.rev_size_mm = {self.rev_size_mm!r} is wider than the strip ({self.strip.width_mm!r} mm)"
+            )
+        return self
+
+    @property
+    def velocities(self) -> tuple[float, ...]:
+        """Velocities in m/s (already SI), sorted."""
+        return self.velocities_m_s
+
+    def rev_side_m(self, dmin_m: float | None = None) -> float:
+        """REV side: 3 d_min ("dmin"), 6 D ("paper") or rev_size_mm ("explicit")."""
+        if self.rev_rule == "explicit":
+            return self.rev_size_mm * 1e-3
+        if self.rev_rule == "paper":
+            return 6.0 * self.shot_diameter_m
+        if dmin_m is None:
+            raise ValueError('almen.rev_rule = "dmin": pass the strip d_min (m) from the dmin stage')
+        return 3.0 * dmin_m
+
+    def measure_side_m(self, dmin_m: float | None = None) -> float:
+        """Measuring-region side: d_min ("dmin"), 2 D ("paper"), measure_size_mm or rev / 3."""
+        if self.rev_rule == "explicit":
+            return (self.measure_size_mm or self.rev_size_mm / 3.0) * 1e-3
+        if self.rev_rule == "paper":
+            return 2.0 * self.shot_diameter_m
+        if dmin_m is None:
+            raise ValueError('almen.rev_rule = "dmin": pass the strip d_min (m) from the dmin stage')
+        return dmin_m
+
+    @property
+    def rev_thickness_m(self) -> float:
+        """The strip REV is as thick as the strip (section 4.1)."""
+        return self.strip.thickness_m
+
+
+def _resolution_default(data: Any) -> Any:
+    if isinstance(data, dict) and "resolution_D" not in data and "resolution_mm" not in data:
+        data = {**data, "resolution_D": 0.05}
+    return data
+
+
+class Dmin(ShotScaled):
+    """[dmin]: the two-shot search for d_min (paper section 3.1, eq. (4), section 4.1).
+
+    Two shots at distance d; impacts are independent when their eq. (4)
+    regions (von Mises residual >= threshold x its maximum on the top
+    surface) do not overlap. The strip search (when almen.rev_rule = "dmin")
+    uses strip_velocity_m_s and strip_angles_deg and keeps the largest d_min;
+    the target search (when target.rev_size_mm is absent) uses the target's
+    velocity and angle. Both use the search settings below.
+    """
+
+    strip_velocity_m_s: Optional[Velocity] = Field(
+        None, description="velocity of the strip search in m/s (default: the largest almen velocity)"
+    )
+    strip_angles_deg: Optional[Annotated[tuple[Angle, ...], Field(min_length=1), unique_sorted("angles")]] = Field(
+        None, description="angles of the strip search (default: smallest and largest almen angle)"
+    )
+    threshold: OpenFraction = Field(0.05, description="eq. (4) fraction of the maximal von Mises residual stress")
+    resolution_D: Optional[Positive] = Field(None, description="search resolution in shot diameters (default 0.05)")
+    resolution_mm: Optional[Positive] = Field(None, description="search resolution in mm")
+    min_distance_D: Positive = Field(1.0, description="smallest distance tried, in shot diameters")
+    max_distance_D: Positive = Field(4.0, description="largest distance tried, in shot diameters")
+    method: Literal["bisection", "scan"] = Field("bisection", description='"bisection" or "scan"')
+
+    _fill = model_validator(mode="before")(_resolution_default)
+
+    @model_validator(mode="after")
+    def _consistent(self) -> "Dmin":
+        if self.resolution_D is not None and self.resolution_mm is not None:
+            raise ValueError("give one of dmin.resolution_D and dmin.resolution_mm, not both")
+        if self.max_distance_D <= self.min_distance_D:
+            raise ValueError(
+                f"dmin.max_distance_D = {self.max_distance_D!r} must be larger than "
+                f"min_distance_D = {self.min_distance_D!r}"
+            )
+        return self
+
+    def search_settings(self) -> dict:
+        """The keys both searches use (not the strip-only velocity and angles):
+        what a target d_min result depends on besides the target itself."""
+        keys = ("threshold", "resolution_D", "resolution_mm", "min_distance_D", "max_distance_D", "method")
+        return {k: getattr(self, k) for k in keys}
+
+    @property
+    def resolution_m(self) -> float:
+        if self.resolution_mm is not None:
+            return self.resolution_mm * 1e-3
+        return self.resolution_D * self.shot_diameter_m
+
+    @property
+    def min_distance_m(self) -> float:
+        return self.min_distance_D * self.shot_diameter_m
+
+    @property
+    def max_distance_m(self) -> float:
+        return self.max_distance_D * self.shot_diameter_m
+
+
+class Coverage(StudyModel):
+    """[coverage]: the Monte Carlo coverage curve on the target REV (section 3.2.2, eq. (5))."""
+
+    grid_points: Annotated[int, check(lambda n: n >= 2, "an integer >= 2")] = Field(
+        101, description="measuring-grid points per side of the measuring region"
+    )
+    shot_counts: Optional[
+        Annotated[tuple[PositiveInt, ...], Field(min_length=2), strictly_increasing("shot counts")]
+    ] = Field(None, description="shot counts at which to evaluate coverage (default: every N up to max_shots)")
+    max_shots: Optional[PositiveInt] = Field(
+        None, description="largest shot count of the curve (default: until full coverage is reached)"
+    )
+    sequences: PositiveInt = Field(6, description="number of random landing sequences")
+    full_coverage_percent: Annotated[
+        float, check(lambda x: 0 < x < 100, "a percentage in (0, 100)")
+    ] = Field(98.0, description="coverage that counts as full (N_f), percent")
+
+    @model_validator(mode="after")
+    def _one(self) -> "Coverage":
+        if self.shot_counts is not None and self.max_shots is not None:
+            raise ValueError("give one of coverage.shot_counts and coverage.max_shots, not both")
+        return self
+
+
+def _intensity_notation(text: str) -> str:
+    parse_intensity(text)  # raises ValueError with the user-facing message
+    return text
+
+
+class Target(ShotScaled):
+    """[target]: the real part (paper section 5)."""
+
+    material: Material = Field(description='a material name from the library or an inline table')
+    thickness_mm: Positive = Field(description="part thickness in mm")
+    angle_deg: Angle = Field(description="impingement angle in degrees (90 = normal)")
+    almen_intensity: Optional[Annotated[str, AfterValidator(_intensity_notation)]] = Field(
+        None, description='shop-floor notation, e.g. "12A" (0.012 in on an A strip) or "0.30 mmA"'
+    )
+    almen_intensity_mm: Optional[Positive] = Field(None, description="Almen intensity (arc height) in mm")
+    almen_strip: Optional[str] = Field(None, description='strip type of almen_intensity_mm, e.g. "A"')
+    velocity_m_s: Optional[Velocity] = Field(
+        None, description="shot velocity in m/s; bypasses the control curve (instead of an intensity)"
+    )
+    coverage_percent: Positive = Field(description="coverage in percent, e.g. 200")
+    sequences: PositiveInt = Field(2, description="number of random shot sequences of the final REV run")
+    control_angle_rule: Literal["nearest", "interpolate"] = Field(
+        "nearest", description='"nearest" computed control-curve angle, or "interpolate" linearly between two'
+    )
+    rev_size_mm: Optional[Positive] = Field(None, description="REV side in mm (default 3 d_min from the two-shot search)")
+    measure_size_mm: Optional[Positive] = Field(None, description="measuring-region side in mm (default rev_size_mm / 3, or d_min)")
+    rev_thickness_mm: Optional[Positive] = Field(None, description="REV thickness in mm (default: the part thickness)")
+    measured_profile_csv: str = Field(
+        "", description="CSV with columns depth_mm, stress_MPa, component for the comparison (\"\" = none)"
+    )
+
+    _profile_sha256: str = PrivateAttr(default="")
+
+    @model_validator(mode="after")
+    def _consistent(self) -> "Target":
+        given = [k for k in ("almen_intensity", "almen_intensity_mm", "velocity_m_s") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError(
+                "give exactly one of target.almen_intensity (e.g. \"12A\"), target.almen_intensity_mm "
+                f"(with almen_strip) or target.velocity_m_s; got {', '.join(given) if given else 'none'}"
+            )
+        if self.almen_intensity_mm is not None and self.almen_strip is None:
+            raise ValueError('target.almen_intensity_mm needs target.almen_strip (e.g. "A")')
+        if self.almen_intensity is not None and self.almen_strip is not None:
+            letter = parse_intensity(self.almen_intensity)[1]
+            if letter != self.almen_strip:
+                raise ValueError(
+                    f'target.almen_intensity = "{self.almen_intensity}" is on strip {letter} but '
+                    f'target.almen_strip = "{self.almen_strip}"'
+                )
+        if self.velocity_m_s is not None and self.almen_strip is not None:
+            raise ValueError("target.almen_strip goes with an intensity, not with target.velocity_m_s")
+        if self.rev_thickness_mm is not None and self.rev_thickness_mm > self.thickness_mm:
+            raise ValueError(
+                f"target.rev_thickness_mm = {self.rev_thickness_mm!r} is thicker than the part "
+                f"(thickness_mm = {self.thickness_mm!r})"
+            )
+        if self.measure_size_mm is not None and self.rev_size_mm is None:
+            raise ValueError("target.measure_size_mm is only used with target.rev_size_mm")
+        if self.rev_size_mm is not None and self.measure_size_mm is not None and self.measure_size_mm > self.rev_size_mm:
+            raise ValueError(
+                f"target.measure_size_mm = {self.measure_size_mm!r} is larger than rev_size_mm = {self.rev_size_mm!r}"
+            )
+        return self
+
+    # --- resolved values -------------------------------------------------
+    @property
+    def measured_profile_sha256(self) -> str:
+        """SHA-256 of the measured-profile CSV as it was when the study was loaded ("" if none)."""
+        return self._profile_sha256
+
+    @property
+    def intensity_mm(self) -> float | None:
+        """Target Almen intensity (saturation arc height) in mm; None with a velocity override."""
+        if self.almen_intensity is not None:
+            return parse_intensity(self.almen_intensity)[0]
+        return self.almen_intensity_mm
+
+    @property
+    def intensity_m(self) -> float | None:
+        mm = self.intensity_mm
+        return None if mm is None else mm * 1e-3
+
+    @property
+    def intensity_strip(self) -> str | None:
+        """Strip type of the target intensity ("A" for "12A")."""
+        if self.almen_intensity is not None:
+            return parse_intensity(self.almen_intensity)[1]
+        return self.almen_strip
+
+    @property
+    def thickness_m(self) -> float:
+        return self.thickness_mm * 1e-3
+
+    @property
+    def rev_thickness_m(self) -> float:
+        """REV thickness: rev_thickness_mm, else the part thickness (as in section 5)."""
+        return (self.rev_thickness_mm or self.thickness_mm) * 1e-3
+
+    @property
+    def coverage_fraction(self) -> float:
+        """coverage_percent / 100 (N_c = coverage_fraction * N_f)."""
+        return self.coverage_percent / 100.0
+
+    def rev_side_m(self, dmin_m: float | None = None) -> float:
+        """REV side: rev_size_mm, else 3 d_min (pass the target d_min in m)."""
+        if self.rev_size_mm is not None:
+            return self.rev_size_mm * 1e-3
+        if dmin_m is None:
+            raise ValueError("target.rev_size_mm not given: pass the target d_min (m) from the dmin stage")
+        return 3.0 * dmin_m
+
+    def measure_side_m(self, dmin_m: float | None = None) -> float:
+        """Measuring-region side: measure_size_mm, rev_size_mm / 3, else d_min."""
+        if self.rev_size_mm is not None:
+            return (self.measure_size_mm or self.rev_size_mm / 3.0) * 1e-3
+        if dmin_m is None:
+            raise ValueError("target.rev_size_mm not given: pass the target d_min (m) from the dmin stage")
+        return dmin_m
+
+
+class Seeds(StudyModel):
+    """[seeds]: reproducible random shot sequences."""
+
+    base: Annotated[int, check(lambda n: 0 <= n < 2**63, "an integer in [0, 2**63)")] = Field(
+        1, description="base seed; sequence k of a stream uses seed(stream, k)"
+    )
+
+    def seed(self, stream: str, k: int) -> int:
+        """Seed of sequence k of a named stream ("almen", "coverage", "target", ...).
+
+        A 63-bit integer from SHA-256 of (base, stream, k): the same in every
+        process and on every machine, and unrelated between streams. Using the
+        same seed for every velocity of a sweep (common random numbers) makes
+        control curves smoother than independent draws.
+        """
+        if k < 0:
+            raise ValueError("sequence index k must be >= 0")
+        digest = hashlib.sha256(f"peenflow-seed:{self.base}:{stream}:{k}".encode()).digest()
+        return int.from_bytes(digest[:8], "little") & (2**63 - 1)
+
+    def seeds(self, stream: str, n: int) -> tuple[int, ...]:
+        return tuple(self.seed(stream, k) for k in range(n))
+
+
+def _auto_or_positive(value: Any) -> Any:
+    if value == "auto" or (isinstance(value, int) and not isinstance(value, bool) and value >= 1):
+        return value
+    raise ValueError('expected "auto" or an integer >= 1')
+
+
+class Execution(StudyModel):
+    """[execution]: how to run (never part of a result's key)."""
+
+    workers: Annotated[Any, AfterValidator(_auto_or_positive)] = Field(
+        "auto", description='dask workers: "auto" or an integer >= 1'
+    )
+    threads_per_worker: Annotated[Any, AfterValidator(_auto_or_positive)] = Field(
+        "auto", description='numba threads per worker: "auto" or an integer >= 1'
+    )

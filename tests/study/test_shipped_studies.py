@@ -1,0 +1,79 @@
+"""The study files shipped in studies/ load, validate and mean what they say."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from peenflow.study import STAGES, load_study, validate_study
+
+STUDIES = Path(__file__).resolve().parents[2] / "studies"
+SHIPPED = ["quickstart.toml", "paper_almen_s230.toml", "paper_al7075.toml"]
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_shipped_study_is_valid(name):
+    path = STUDIES / name
+    assert validate_study(path) == []
+    study = load_study(path)
+    assert study.name == name.removesuffix(".toml")
+    assert study.file == path.absolute()
+    assert set(study.stages()) <= set(STAGES)
+
+
+def test_paper_almen_study_matches_section_4():
+    s = load_study(STUDIES / "paper_almen_s230.toml")
+    assert s.stages() == ("strip_dmin", "control_curves")
+    assert s.shot.name == "S230" and s.shot.diameter_m == pytest.approx(0.58e-3)
+    assert s.shot.density_kg_m3 == 7800.0 and s.shot.friction_coefficient == 0.2
+    a = s.almen
+    assert a.strip.name == "A" and a.strip.thickness_m == pytest.approx(1.29e-3)
+    assert a.strip.gauge_span_m == pytest.approx(31.75e-3)
+    m = a.strip.material
+    assert (m.name, m.youngs_modulus_Pa, m.poisson_ratio, m.density_kg_m3) == ("SAE1070", 205e9, 0.29, 7800.0)
+    jc = m.johnson_cook
+    assert (jc.A_Pa, jc.B_Pa, jc.C, jc.n, jc.m) == (1408e6, pytest.approx(600.8e6), 0.0134, 0.234, 0.0)
+    assert a.angles_deg == (45.0, 67.5, 90.0)
+    assert a.velocities_m_s == (25.0, 35.0, 45.0, 55.0)
+    assert a.shot_counts == (10, 20, 40, 80, 160, 320, 480)
+    assert a.sequences == 6 and a.rev_rule == "dmin"
+    assert a.rev_side_m(dmin_m=2 * 0.58e-3) == pytest.approx(6 * 0.58e-3)
+    assert a.measure_side_m(dmin_m=2 * 0.58e-3) == pytest.approx(2 * 0.58e-3)
+    assert s.dmin.strip_velocity_m_s == 55.0 and s.dmin.strip_angles_deg == (45.0, 90.0)
+    assert s.dmin.threshold == 0.05
+    assert s.fidelity.preset == "paper" and s.fidelity.element_size_m == pytest.approx(25e-6)
+    assert s.target is None
+
+
+def test_paper_al7075_study_matches_section_5():
+    s = load_study(STUDIES / "paper_al7075.toml")
+    almen = load_study(STUDIES / "paper_almen_s230.toml")
+    # extends: the control-curve inputs are those of the almen study
+    assert s.to_canonical_dict()["almen"] == almen.to_canonical_dict()["almen"]
+    assert s.stages() == ("strip_dmin", "control_curves", "target_dmin", "coverage", "residual_stress")
+    t = s.target
+    assert t.material.name == "Al7075-T73" and t.material.youngs_modulus_Pa == 71e9
+    assert t.material.johnson_cook.A_MPa == 434.0 and t.material.johnson_cook.B_MPa == 303.58
+    assert not t.material.johnson_cook.rate_dependent and not t.material.johnson_cook.thermal
+    assert t.thickness_m == pytest.approx(9.5e-3) and t.rev_thickness_m == pytest.approx(9.5e-3)
+    assert t.angle_deg == 65.0 and t.coverage_fraction == 2.0 and t.sequences == 2
+    assert t.intensity_mm == 0.30 and t.intensity_strip == "A"
+    assert s.control_angles() == ((67.5, 1.0),)
+    assert t.rev_side_m(dmin_m=1.5e-3) == pytest.approx(4.5e-3)
+    assert t.measured_profile_csv == ""
+    assert s.coverage.full_coverage_percent == 98.0
+
+
+def test_quickstart_is_coarse_and_runs_the_whole_chain():
+    s = load_study(STUDIES / "quickstart.toml")
+    assert s.stages() == ("control_curves", "target_dmin", "coverage", "residual_stress")
+    assert s.fidelity.preset == "coarse" and 50 <= s.fidelity.element_size_um <= 60
+    assert s.almen.angles_deg == (90.0,) and len(s.almen.velocities_m_s) == 2
+    assert s.almen.shot_counts == (5, 10, 20, 40)
+    assert s.almen.rev_side_m() == pytest.approx(2.4e-3) and s.almen.measure_side_m() == pytest.approx(0.8e-3)
+    assert s.target.material.name == "Al7075-T73" and s.target.coverage_percent == 100.0
+    assert s.fidelity.fine_depth_m == pytest.approx(0.75 * 0.58e-3)
+    assert s.execution.threads_per_worker == 1 and s.execution.workers == "auto"
+    assert math.isfinite(s.target.material.dilatational_wave_speed_m_s)
