@@ -1,0 +1,49 @@
+"""Stage ``arc_height``: Almen-strip arc height from the strip REV runs (paper eqs. 6-9).
+
+For one (angle, velocity), every sequence and every rung N of the saturation
+ladder: the REV's σx profile averaged over the measuring region is taken as
+the clamped strip's induced stress; releasing the strip (eq. 8) gives the
+arc height over the gauge span l = 31.75 mm (eq. 9), moment about the
+strip's mid-plane.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from peenflow.methods import DepthProfile, release_strip
+
+from ._common import MM, peening_task, var
+
+
+@peening_task(version="1")
+def arc_height(runs: xr.Dataset, *, strip_width_m: float, strip_thickness_m: float,
+               youngs_modulus_Pa: float, gauge_span_m: float) -> xr.Dataset:
+    """``runs``: strip REV profiles, dims (sequence, shots, layer), ``stress_xx_Pa`` and ``z_edge_m``.
+
+    Returns arc_height_mm, clamp_force_N, clamp_moment_Nm with dims (sequence, shots).
+    """
+    z_edges = np.asarray(runs.z_edge_m.values)
+    if z_edges.ndim > 1:  # combined along sequence: identical meshes
+        z_edges = z_edges.reshape(-1, z_edges.shape[-1])[0]
+    sxx = runs.stress_xx_Pa.transpose("sequence", "shots", "layer").values
+    n_seq, n_shots, _ = sxx.shape
+    ah = np.full((n_seq, n_shots), np.nan)
+    force = np.full_like(ah, np.nan)
+    moment = np.full_like(ah, np.nan)
+    for s in range(n_seq):
+        for k in range(n_shots):
+            profile = DepthProfile(z_edges, sxx[s, k], "layers")
+            rel = release_strip(profile, strip_width_m, strip_thickness_m, youngs_modulus_Pa, gauge_span_m)
+            ah[s, k], force[s, k], moment[s, k] = rel.arc_height, rel.force, rel.moment
+    dims = ("sequence", "shots")
+    return xr.Dataset(
+        {
+            "arc_height_mm": var(ah / MM, dims, "mm", "arc height over the gauge span (eq. 9)"),
+            "clamp_force_N": var(force, dims, "N", "F_x held by the fixture (eq. 6)"),
+            "clamp_moment_Nm": var(moment, dims, "N m", "M_y about the strip mid-plane (eq. 7)"),
+        },
+        coords={"sequence": runs.sequence.values, "shots": runs.shots.values},
+        attrs={"strip_thickness_m": strip_thickness_m, "gauge_span_m": gauge_span_m},
+    )

@@ -1,0 +1,46 @@
+"""Stage ``control_curve``: Almen intensity vs shot velocity, one curve per angle (paper §4, Fig. 17)."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from peenflow.methods import ControlCurve
+
+from ._common import MM, peening_task, var
+
+
+@peening_task(version="1")
+def control_curve(sat: xr.Dataset, *, interpolation: str = "pchip") -> xr.Dataset:
+    """``sat``: saturation results combined over (angle_deg, velocity_m_s).
+
+    Returns the intensity table and, for plotting and inversion, each angle's
+    monotone (PCHIP) interpolant sampled on a fine velocity grid.
+    """
+    table = sat.intensity_mm.transpose("angle_deg", "velocity_m_s")
+    v = sat.velocity_m_s.values.astype(float)
+    fine = np.linspace(v.min(), v.max(), 61) if v.size > 1 else v.copy()
+    curves = np.full((table.shape[0], fine.size), np.nan)
+    increasing = np.zeros(table.shape[0], dtype=int)
+    for i in range(table.shape[0]):
+        ints = table.values[i] * MM
+        ok = np.isfinite(ints)
+        if ok.sum() >= 2:
+            if interpolation == "linear":
+                curves[i] = np.interp(fine, v[ok], ints[ok]) / MM
+            else:
+                curve = ControlCurve(float(table.angle_deg.values[i]), v[ok], ints[ok])
+                curves[i] = curve.intensity(fine) / MM
+                increasing[i] = int(curve.is_increasing)
+    return xr.Dataset(
+        {
+            "intensity_mm": var(table.values, ("angle_deg", "velocity_m_s"), "mm", "Almen intensity"),
+            "intensity_std_mm": var(sat.intensity_std_mm.transpose("angle_deg", "velocity_m_s").values,
+                                    ("angle_deg", "velocity_m_s"), "mm", "spread over sequences"),
+            "curve_intensity_mm": var(curves, ("angle_deg", "velocity_fine_m_s"), "mm",
+                                      f"{interpolation} interpolant of the control curve"),
+            "monotone_increasing": var(increasing, ("angle_deg",), "", "1 if intensity rises with velocity"),
+        },
+        coords={"angle_deg": table.angle_deg.values, "velocity_m_s": v, "velocity_fine_m_s": fine},
+        attrs={"interpolation": interpolation},
+    )
