@@ -57,7 +57,7 @@ ALMEN_STRIPS = MappingProxyType(
 )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class StripRelease:
     """Result of releasing a peened, clamped Almen strip.
 

@@ -35,7 +35,7 @@ def _ro(a):
     return a
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class ControlCurve:
     """Intensity vs velocity at one impingement angle.
 
@@ -91,7 +91,7 @@ class ControlCurve:
         return _invert(self, intensity, extrapolate)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class AngleBlend:
     """Linear-in-angle blend of two control curves (same interface as ControlCurve).
 
@@ -160,7 +160,7 @@ def _invert(curve, intensity, extrapolate):
     return out
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class ControlCurveFamily:
     """Control curves at several angles; ``curves`` sorted by angle on construction."""
 

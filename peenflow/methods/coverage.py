@@ -126,7 +126,7 @@ def expected_coverage_uniform(n, dent_area: float, peening_area: float) -> np.nd
     return 100.0 * -np.expm1(np.asarray(n, dtype=float) * np.log1p(-q))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class AvramiFit:
     """Eq. (5), ``C(N) = 100 (1 - exp(-A N))``, fitted by least squares in C.
 

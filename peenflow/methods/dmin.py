@@ -148,7 +148,7 @@ def bracket_from_radius(radius: float, margin: float = 0.5) -> tuple[float, floa
     return 2 * radius * (1 - margin), 2 * radius * (1 + margin)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class DminSearch:
     """Outcome of :func:`find_dmin`.
 

@@ -38,7 +38,7 @@ from scipy.interpolate import RectBivariateSpline, RegularGridInterpolator
 from scipy.optimize import minimize
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class DentEllipse:
     """The indentation area of one impact.
 

@@ -36,7 +36,7 @@ def _frozen(a, dtype=float) -> np.ndarray:
     return arr
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class DepthProfile:
     """One stress component through the depth.
 
@@ -131,7 +131,7 @@ class DepthProfile:
         return DepthProfile(lin.z, lin.values - (c0 + c1 * (lin.z - origin)), "linear")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class LayerAverage:
     """Stress averaged over a measuring region, per depth layer.
 

@@ -62,7 +62,7 @@ def _basis(model: str, theta, n):
     raise ValueError(f"unknown saturation model {model!r}; use 'eq10', 'exp2' or 'exp3'")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class SaturationFit:
     """A fitted saturation curve and its saturation point.
 
@@ -262,7 +262,7 @@ def _ro(a):
     return a
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class SequenceSaturation:
     """Saturation fits of several random shot sequences.
 

@@ -81,7 +81,7 @@ def _cot(angle_deg: float) -> float:
     return float(u[0] / u[2])
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class ShotStream:
     """Shots of one random sequence, sorted by arrival.
 
