@@ -1,0 +1,156 @@
+"""Translation between study parameters (plain dicts, SI) and the FE/DEM kernel.
+
+Tasks receive canonical parameter dicts (so that keys are stable and only
+what a task uses enters its key) and build kernel objects here:
+
+* ``material``: {"E_Pa", "nu", "density_kg_m3", "A_Pa", "B_Pa", "n", "C", "m",
+  "reference_strain_rate_1_s", "room_temperature_K", "melt_temperature_K"}
+* ``shot``: {"radius_m", "density_kg_m3", "friction"}
+* ``fidelity``: {"element_size_m", "fine_depth_m", "grading_ratio",
+  "time_step_safety", "window", "window_lateral", "window_depth",
+  "rest_ke_fraction", "relax_ke_fraction", "lateral_boundary"}
+
+Also: meshes for single impacts, two-shot plates and REVs; the kernel state
+as an xarray Dataset for checkpoints; surface fields mirrored from
+quarter/half models.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from peenflow.fe.impact import Options, run_impacts  # noqa: F401  (re-exported for tasks)
+from peenflow.fe.johnson_cook import Material
+from peenflow.fe.mesh import BoxMesh, graded_axis
+from peenflow.fe.model import Target
+from peenflow.fe.shots import Shots
+from peenflow.methods import impingement_direction
+
+VOIGT = ("xx", "yy", "zz", "yz", "xz", "xy")
+
+
+def kernel_material(p: dict) -> Material:
+    return Material(
+        E=p["E_Pa"], nu=p["nu"], density=p["density_kg_m3"], A=p["A_Pa"], B=p["B_Pa"], n=p["n"], C=p["C"],
+        m=p["m"], ref_strain_rate=p["reference_strain_rate_1_s"],
+        T_room=p.get("room_temperature_K") or 293.0, T_melt=p.get("melt_temperature_K") or 1793.0,
+    )
+
+
+def kernel_options(f: dict, friction: float, threads: int = 1, record: bool = False,
+                   record_every: int = 1) -> Options:
+    return Options(
+        dt_safety=f["time_step_safety"], friction=friction, window=bool(f["window"]),
+        window_lateral=f["window_lateral"], window_depth=f["window_depth"],
+        rest_ke_fraction=f["rest_ke_fraction"], relax_ke_fraction=f["relax_ke_fraction"],
+        threads=threads, record=record, record_every=record_every,
+    )
+
+
+def shot_mass(shot: dict) -> float:
+    return shot["density_kg_m3"] * 4.0 / 3.0 * math.pi * shot["radius_m"] ** 3
+
+
+# -- meshes ----------------------------------------------------------------------
+def _z_axis(f: dict, thickness: float) -> np.ndarray:
+    return graded_axis(f["fine_depth_m"], f["element_size_m"], thickness, f["grading_ratio"])
+
+
+def _lateral(f: dict, fine_half: float, half: float, lower: bool) -> np.ndarray:
+    """Axis on [0, half] (lower=False) or [-half, half]: fine within ``fine_half`` of 0."""
+    right = graded_axis(fine_half, f["element_size_m"], half, f["grading_ratio"])
+    return np.concatenate([-right[::-1], right[1:]]) if lower else right
+
+
+def impact_block(f: dict, half_width: float, thickness: float, fine_half: float,
+                 symmetric_x: bool, symmetric_y: bool) -> BoxMesh:
+    """Block around an impact at the origin; ``symmetric_*`` keeps only the >= 0 half
+    (the plane through the impact is then a symmetry face)."""
+    x = _lateral(f, fine_half, half_width, lower=not symmetric_x)
+    y = _lateral(f, fine_half, half_width, lower=not symmetric_y)
+    return BoxMesh(x, y, _z_axis(f, thickness))
+
+
+def rev_mesh(f: dict, side: float, thickness: float) -> BoxMesh:
+    """REV block ``[-side/2, side/2]^2 x [0, thickness]``, uniformly fine laterally.
+
+    Shots land anywhere on the peening surface, so the fine zone covers it all;
+    lateral node lines fall on the measuring-region edges when the sizes allow.
+    """
+    n = max(2, int(round(side / f["element_size_m"])))
+    axis = np.linspace(-0.5 * side, 0.5 * side, n + 1)
+    return BoxMesh(axis, axis.copy(), _z_axis(f, thickness))
+
+
+def target(mesh: BoxMesh, f: dict) -> Target:
+    return Target(mesh, lateral=f.get("lateral_boundary", "symmetric"), bottom="fixed")
+
+
+# -- shots ---------------------------------------------------------------------------
+def aimed_shot(shot: dict, speed: float, angle_deg: float, landing_xy=(0.0, 0.0), gap: float | None = None) -> tuple:
+    """(centre (3,), velocity (3,)) of a shot that first touches z = 0 at ``landing_xy``."""
+    u = impingement_direction(angle_deg)
+    r = shot["radius_m"]
+    gap = 0.02 * r if gap is None else gap
+    s = gap / u[2]
+    centre = np.array([landing_xy[0], landing_xy[1], -r]) - s * u
+    return centre, speed * u
+
+
+def make_shots(shot: dict, centres, velocities) -> Shots:
+    return Shots(np.asarray(centres, float).reshape(-1, 3), np.asarray(velocities, float).reshape(-1, 3),
+                 shot["radius_m"], shot["density_kg_m3"])
+
+
+# -- fields on the structured mesh ----------------------------------------------------------
+def grid_fields(mesh: BoxMesh, stress: np.ndarray, eps_p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(stress (nz, ny, nx, 6), eps_p (nz, ny, nx)) from element arrays (numbering i + nx (j + ny k))."""
+    nx, ny, nz = mesh.shape_elements
+    return stress.reshape(nz, ny, nx, 6), eps_p.reshape(nz, ny, nx)
+
+
+def von_mises(s: np.ndarray) -> np.ndarray:
+    """Von Mises stress of Voigt stress arrays (..., 6) (xx yy zz yz xz xy), Pa."""
+    xx, yy, zz, yz, xz, xy = (s[..., k] for k in range(6))
+    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2) + 3.0 * (yz ** 2 + xz ** 2 + xy ** 2))
+
+
+def surface_uz(mesh: BoxMesh, displacement: np.ndarray) -> np.ndarray:
+    """Top-surface z displacement, (nnx, nny) m, positive into the target."""
+    nnx, nny, _ = mesh.shape_nodes
+    return displacement[: nnx * nny, 2].reshape(nny, nnx).T.copy()
+
+
+def mirror_axis(a: np.ndarray) -> np.ndarray:
+    return np.concatenate([-a[:0:-1], a])
+
+
+def mirror_nodes(values: np.ndarray, axis: int) -> np.ndarray:
+    """Mirror a node field about coordinate 0 (the first node row is on the plane)."""
+    return np.concatenate([np.flip(values, axis=axis).take(range(values.shape[axis] - 1), axis=axis), values],
+                          axis=axis)
+
+
+def mirror_cells(values: np.ndarray, axis: int) -> np.ndarray:
+    """Mirror a cell field about coordinate 0 (the first cell face is on the plane)."""
+    return np.concatenate([np.flip(values, axis=axis), values], axis=axis)
+
+
+# -- checkpoints: kernel state <-> Dataset -------------------------------------------------------
+def state_to_dataset(state: dict, **extra) -> xr.Dataset:
+    """A kernel state dict (arrays) as a Dataset, plus ``extra`` variables (name -> (dims, values))."""
+    data = {}
+    for name, arr in state.items():
+        arr = np.asarray(arr)
+        data[f"kernel__{name}"] = ([f"kernel__{name}__{d}" for d in range(arr.ndim)], arr)
+    for name, (dims, values) in extra.items():
+        data[name] = (dims, np.asarray(values))
+    return xr.Dataset(data)
+
+
+def state_from_dataset(ds: xr.Dataset) -> dict:
+    return {name[len("kernel__"):]: np.asarray(ds[name].values) for name in ds.data_vars
+            if name.startswith("kernel__")}
