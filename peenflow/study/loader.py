@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import copy
 import csv
+import math
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -101,7 +102,7 @@ def _tupleize(value: Any) -> Any:
 
 
 def _is_number(x: Any) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool)
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
 
 
 _NO_VALUE = object()
