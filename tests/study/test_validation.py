@@ -71,6 +71,7 @@ CASES = [
      ["fidelity.time_step_safety = 1.5: expected a time-step safety factor in (0, 1]"]),
     ("contact-stiffness", {"fidelity.contact_stiffness_factor": 5.0},
      ["fidelity.contact_stiffness_factor = 5.0: expected a contact stiffness factor in (0, 2]"]),
+    ("fidelity-overrides-key", {"fidelity.overrides": ["x"]}, ['fidelity.overrides = ["x"]: unknown key']),
     ("precision", {"fidelity.precision": "float16"}, ['fidelity.precision = "float16": expected one of', 'did you mean "float64"?']),
     ("preset-typo", {"fidelity.preset": "standrad"}, ['fidelity.preset = "standrad": expected one of', 'did you mean "standard"?']),
     ("element-too-large", {"fidelity.element_size_um": 400.0},
