@@ -4,11 +4,10 @@ A study file (TOML) says what to compute: the shot, the Almen control-curve
 sweep, the d_min search and coverage settings, the real part (target), the
 numerical fidelity and the seeds. See ``docs/study-files.md``.
 
-    >>> from peenflow.study import load_study
-    >>> study = load_study("studies/paper_al7075.toml")
-    >>> study.shot.diameter_m, study.target.material.youngs_modulus_Pa
-    >>> study.stages()
-    ('strip_dmin', 'control_curves', 'target_dmin', 'coverage', 'residual_stress')
+    from peenflow.study import load_study
+    study = load_study("studies/paper_al7075.toml")
+    study.shot.diameter_m, study.target.material.youngs_modulus_Pa   # 0.00058, 71e9
+    study.stages()   # ('strip_dmin', 'control_curves', 'target_dmin', 'coverage', 'residual_stress')
 
 ``load_study`` raises one :class:`StudyError` listing every problem (key path,
 bad value, what is expected); ``validate_study`` returns those messages.

@@ -87,6 +87,8 @@ def _toml_repr(value: Any) -> str:
         return "{" + ", ".join(f"{k} = {_toml_repr(v)}" for k, v in value.items()) + "}"
     if isinstance(value, BaseModel):
         return getattr(value, "name", type(value).__name__)
+    if hasattr(value, "isoformat"):  # TOML dates and times
+        return value.isoformat()
     return repr(value)
 
 
@@ -139,7 +141,6 @@ _TYPE_EXPECTED = {
     "dict_type": "a table",
     "model_type": "a table",
     "model_attributes_type": "a table",
-    "finite_number": "a finite number",
 }
 
 
@@ -204,6 +205,8 @@ def translate(
             msg = str(ctx.get("error", err["msg"]))
             if not loc or isinstance(value, dict) or isinstance(value, BaseModel):
                 shown = None  # a whole-table check: its message names the keys
+        elif kind == "finite_number":
+            msg = "expected a finite number (not nan or inf)"
         elif kind in _TYPE_EXPECTED:
             doc = _field_doc(parent, loc[-1] if loc else None)
             msg = f"expected {_TYPE_EXPECTED[kind]}, got a {_type_name(value)}"

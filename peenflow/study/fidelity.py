@@ -8,11 +8,9 @@ points; the benchmarks (run time vs error) are where they get tuned.
 
 from __future__ import annotations
 
-from typing import Literal, Optional
+from typing import Annotated, Literal, Optional
 
 from pydantic import Field, model_validator
-
-from typing import Annotated
 
 from .types import GradingRatio, NonNegative, OpenFraction, Positive, SafetyFactor, ShotScaled, check
 

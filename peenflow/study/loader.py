@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import copy
 import csv
+import math
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -101,7 +102,7 @@ def _tupleize(value: Any) -> Any:
 
 
 def _is_number(x: Any) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool)
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
 
 
 _NO_VALUE = object()
@@ -338,6 +339,9 @@ class _Loader:
             if isinstance(data.get(section), dict):
                 self.resolve_ref(data[section], key, kind, section, items, broken)
         if isinstance(data.get("fidelity"), dict):
+            if "overrides" in data["fidelity"]:  # bookkeeping field of the resolved model, not a key
+                self.add("fidelity.overrides", "unknown key (override a preset by giving the key itself, "
+                         "e.g. element_size_um = 30)", value=data["fidelity"].pop("overrides"))
             data["fidelity"] = expand_preset(data["fidelity"])
         self.fill_dmin_defaults(data)
 
@@ -373,8 +377,8 @@ class _Loader:
         try:
             return Study(
                 info=info,
-                path=str(self.path),
-                extends_chain=tuple(str(p) for p in raw.chain),
+                path=self.path,
+                extends_chain=tuple(raw.chain),
                 **sections,
             )
         except ValidationError as exc:  # should not happen: sections are valid

@@ -48,8 +48,8 @@ class Study(StudyModel):
     """A validated study. Fields mirror the file's sections."""
 
     info: StudyInfo
-    path: str = Field("", description="absolute path of the study file")
-    extends_chain: tuple[str, ...] = Field((), description="the study file, then its parents (absolute paths)")
+    path: Path = Field(Path(), description="absolute path of the study file")
+    extends_chain: tuple[Path, ...] = Field((), description="the study file, then its parents (absolute paths)")
     shot: ShotSection
     almen: Optional[Almen] = None
     dmin: Dmin = Field(default_factory=Dmin)
@@ -82,8 +82,9 @@ class Study(StudyModel):
         return self.info.description
 
     @property
-    def file(self) -> Path:
-        return Path(self.path)
+    def directory(self) -> Path:
+        """The study file's folder (the default store lives beside it)."""
+        return self.path.parent
 
     # --- what to run -----------------------------------------------------
     def stages(self) -> tuple[str, ...]:

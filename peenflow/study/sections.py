@@ -64,7 +64,7 @@ def _rev_rule_default(data: Any) -> Any:
     return data
 
 
-def _check_rev(section: str, rule: str, rev_size_mm, measure_size_mm, allowed: tuple[str, ...]) -> None:
+def _check_rev(section: str, rule: str, rev_size_mm, measure_size_mm) -> None:
     if rule == "explicit" and rev_size_mm is None:
         raise ValueError(f'{section}.rev_rule = "explicit" needs rev_size_mm')
     if rule != "explicit" and rev_size_mm is not None:
@@ -117,17 +117,12 @@ class Almen(ShotScaled):
 
     @model_validator(mode="after")
     def _rev(self) -> "Almen":
-        _check_rev("almen", self.rev_rule, self.rev_size_mm, self.measure_size_mm, ())
+        _check_rev("almen", self.rev_rule, self.rev_size_mm, self.measure_size_mm)
         if self.rev_size_mm is not None and self.rev_size_mm > self.strip.width_mm:
             raise ValueError(
                 f"almen.rev_size_mm = {self.rev_size_mm!r} is wider than the strip ({self.strip.width_mm!r} mm)"
             )
         return self
-
-    @property
-    def velocities(self) -> tuple[float, ...]:
-        """Velocities in m/s (already SI), sorted."""
-        return self.velocities_m_s
 
     def rev_side_m(self, dmin_m: float | None = None) -> float:
         """REV side: 3 d_min ("dmin"), 6 D ("paper") or rev_size_mm ("explicit")."""

@@ -90,7 +90,7 @@ def test_extends_child_overrides_parent(write_study, tmp_path):
     assert s.target.angle_deg == 80.0 and s.target.material == parent.target.material
     assert s.fidelity.preset == "coarse" and s.fidelity.element_size_um == 50.0
     assert s.fidelity.overrides == ("element_size_um",)
-    assert s.extends_chain == (str(child), str(tmp_path / "parent.toml"))
+    assert s.extends_chain == (child, tmp_path / "parent.toml")
 
 
 def test_extends_chain_of_three_and_paths_relative_to_their_file(write_study, tmp_path):
@@ -154,3 +154,11 @@ def test_models_are_frozen(write_study):
     with pytest.raises(Exception):
         s.almen.sequences = 3  # type: ignore[misc]
     assert copy.deepcopy(s) == s
+
+
+def test_study_pickles_with_its_shot_diameter(write_study):
+    import pickle
+
+    s = load_study(write_study())
+    t = pickle.loads(pickle.dumps(s))
+    assert t == s and t.fidelity.fine_depth_m == s.fidelity.fine_depth_m and t.dmin.resolution_m == s.dmin.resolution_m

@@ -19,7 +19,7 @@ def test_shipped_study_is_valid(name):
     assert validate_study(path) == []
     study = load_study(path)
     assert study.name == name.removesuffix(".toml")
-    assert study.file == path.absolute()
+    assert study.path == path.absolute() and study.directory == STUDIES
     assert set(study.stages()) <= set(STAGES)
 
 
