@@ -1,8 +1,9 @@
 """Stage ``coverage_curve``: coverage vs shot number on the REV, N_f and N_c (paper §3.2.2, eq. 5).
 
 The dent ellipse of a single impact (stage ``indentation``) is stamped at
-random landing points -- the landing points of the same shot streams the
-REV runs use (eqs. 2-3) -- and the fraction of the measuring region's grid
+random landing points over the whole peening surface -- drawn by the same
+shot-stream generator the REV runs use (eqs. 2-3), with their own seeds --
+and the fraction of the measuring region's grid
 nodes inside any dent is the coverage.  Eq. (5) is fitted to all
 sequences; N_f is the shot number of 98 % coverage and N_c the one of the
 specified coverage (200 % = 2 N_f).  The closed form for uniform landings,

@@ -48,6 +48,12 @@ def execute_and_report(args, graph, store, nodes, forced=frozenset()) -> int:
                        workers=args.workers, threads=args.threads, reporter=reporter)
     reporter.line("")
     reporter.line(reporter.summary())
+    for report in graph.reports:
+        try:
+            for path in report(graph, store) or ():
+                reporter.line(f"wrote {path}")
+        except Exception as exc:  # a failed plot never hides the run's own outcome
+            reporter.line(f"report {getattr(report, '__name__', report)} failed: {type(exc).__name__}: {exc}")
     bad = [o for o in outcomes if not o.ok]
     return 1 if bad else 0
 

@@ -92,6 +92,9 @@ class Graph:
         self.name = name
         self.nodes: list[Node] = []
         self._stages: dict[str, Task] = {}
+        #: ``f(graph, store) -> list of written paths``, called after a run on what is done
+        #: (reports and plots: outside the store, so not part of any key)
+        self.reports: list = []
 
     # -- building -----------------------------------------------------------
     def _register_stage(self, task: Task, stage: str | None) -> str:

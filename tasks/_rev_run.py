@@ -1,0 +1,116 @@
+"""One shot sequence on a REV, with a relaxed snapshot at each rung of a shot ladder.
+
+Shared by ``strip_runs`` (the saturation ladder N = 10 ... 480 of §4: one run
+per sequence to the largest N, the shots of rung N being the first N to
+arrive) and ``target_runs`` (N_c shots on the part's REV, §5).
+
+Each rung is relaxed to rest on a copy of the state (the run continues from
+the unrelaxed state) and reduced to depth profiles averaged over the
+measuring region.  The kernel state and the profiles already made are
+checkpointed at every rung and every ``PEENFLOW_CHECKPOINT_EVERY_S``
+seconds (default 30), so a killed run resumes from its last checkpoint with
+the same result it would have had uninterrupted.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+
+import numpy as np
+import xarray as xr
+
+from peenflow.methods import average_over_region, shot_stream
+
+from . import _kernel as K
+from ._common import var
+
+CHECKPOINT_EVERY_S = float(os.environ.get("PEENFLOW_CHECKPOINT_EVERY_S", "30"))
+
+
+def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, measure_side_m: float,
+            thickness_m: float, angle_deg: float, velocity_m_s: float, seed: int, ladder: list) -> xr.Dataset:
+    ladder = sorted(int(n) for n in ladder)
+    mesh = K.rev_mesh(fidelity, side_m, thickness_m)
+    centroids = mesh.element_centroids()
+    z_edges = mesh.z
+    half = 0.5 * side_m
+    region = (-0.5 * measure_side_m, 0.5 * measure_side_m, -0.5 * measure_side_m, 0.5 * measure_side_m)
+    stream = shot_stream(ladder[-1], shot["radius_m"], half, half, angle_deg, velocity_m_s, seed)
+    target = K.target(mesh, fidelity)
+    material_k = K.kernel_material(material)
+    options = K.kernel_options(fidelity, shot, material_k, velocity_m_s, angle_deg, ctx.threads if ctx else 1)
+    nz = len(z_edges) - 1
+
+    means: dict[int, np.ndarray] = {}
+    spreads: dict[int, np.ndarray] = {}
+    plastic: dict[int, np.ndarray] = {}
+    state = None
+    if ctx is not None and (ck := ctx.load_checkpoint()) is not None:
+        state = K.state_from_dataset(ck)
+        for k, n in enumerate(ck.rung.values.tolist()):
+            means[n], spreads[n], plastic[n] = ck.rung_mean.values[k], ck.rung_spread.values[k], ck.rung_plastic.values[k]
+
+    def checkpoint(state_dict):
+        rungs = sorted(means)
+        extra = {
+            "rung": (("rung",), np.array(rungs, dtype=np.int64)),
+            "rung_mean": (("rung", "layer", "component"), np.array([means[n] for n in rungs]).reshape(-1, nz, 6)),
+            "rung_spread": (("rung", "layer", "component"), np.array([spreads[n] for n in rungs]).reshape(-1, nz, 6)),
+            "rung_plastic": (("rung", "layer"), np.array([plastic[n] for n in rungs]).reshape(-1, nz)),
+        }
+        ctx.save_checkpoint(K.state_to_dataset(state_dict, **extra))
+
+    last_save = [time.time()]
+
+    def on_shot_done(i, exporter):
+        if ctx is None:
+            return
+        ctx.progress(i + 1, ladder[-1], "shots")
+        if time.time() - last_save[0] > CHECKPOINT_EVERY_S:
+            checkpoint(exporter())
+            last_save[0] = time.time()
+
+    records = None
+    t0 = time.time()
+    for n in ladder:
+        if n in means:
+            continue
+        shots = K.make_shots(shot, stream.centres[:n], stream.velocities[:n])
+        res = K.run_impacts(target, material_k, shots, options, state=state, on_shot_done=on_shot_done)
+        avg = average_over_region(centroids, res.stress, z_edges, region)
+        pavg = average_over_region(centroids, np.repeat(res.eps_p[:, None], 6, axis=1), z_edges, region)
+        means[n], spreads[n], plastic[n] = avg.mean, avg.std, pavg.mean[:, 0]
+        state = res.final_state.to_dict()
+        records = res.shots
+        if ctx is not None:
+            checkpoint(state)
+            last_save[0] = time.time()
+    if records is None:  # every rung came from the checkpoint
+        from peenflow.fe.state import SHOT_RECORD_FIELDS
+
+        rec = np.asarray(state["shot_records"]).reshape(-1, len(SHOT_RECORD_FIELDS))
+        records = {name: rec[:, k] for k, name in enumerate(SHOT_RECORD_FIELDS)}
+
+    mean = np.array([means[n] for n in ladder])
+    spread = np.array([spreads[n] for n in ladder])
+    hit = records["hit"] > 0
+    return xr.Dataset(
+        {
+            "stress_mean_Pa": var(mean, ("shots", "layer", "component"), "Pa",
+                                  "residual stress averaged over the measuring region"),
+            "stress_spread_Pa": var(spread, ("shots", "layer", "component"), "Pa", "lateral std over the region"),
+            "stress_xx_Pa": var(mean[:, :, 0], ("shots", "layer"), "Pa", "sigma_xx profile"),
+            "stress_yy_Pa": var(mean[:, :, 1], ("shots", "layer"), "Pa", "sigma_yy profile"),
+            "plastic_strain_mean": var(np.array([plastic[n] for n in ladder]), ("shots", "layer"), ""),
+            "z_edge_m": var(z_edges, ("z_edge",), "m", "layer boundaries below the peened surface"),
+            "depth_m": var(0.5 * (z_edges[1:] + z_edges[:-1]), ("layer",), "m", "layer mid-depth"),
+            "restitution": var(records["restitution"], ("impact",), "", "per impact, in arrival order"),
+            "peak_force_N": var(records["peak_force"], ("impact",), "N"),
+            "energy_error": var(records["energy_error"], ("impact",), "", "energy balance error / impact energy"),
+            "hit_fraction": var(float(hit.mean()) if hit.size else 0.0, (), "", "shots that touched the REV"),
+        },
+        coords={"shots": np.array(ladder), "component": list(K.VOIGT)},
+        attrs={"rev_side_m": side_m, "measure_side_m": measure_side_m, "thickness_m": thickness_m,
+               "n_elements": int(mesh.n_elements), "seed": int(seed), "run_wall_s": time.time() - t0},
+    )

@@ -1,0 +1,155 @@
+"""The methodology as a graph of stages: a study file -> a :class:`peenflow.engine.Graph`.
+
+::
+
+    strip_impact[angle] -> strip_dmin[angle] -> strip_rev            (almen.rev_rule = "dmin")
+    strip_rev -> strip_runs[angle, velocity, sequence] -> arc_height[angle, velocity]
+              -> saturation[angle, velocity] -> control_curve
+    control_curve -> target_velocity -> target_impact -> target_indentation
+    target_impact -> target_dmin -> target_rev                       (no target.rev_size_mm)
+    target_indentation + target_rev -> coverage_curve
+    target_rev + target_velocity + coverage_curve -> target_runs[sequence] -> residual_profile
+    after a run: plots of whatever is done (PNG, beside the study)
+
+Each task receives only the parameters it uses, so editing one section of a
+study recomputes only the stages that depend on it, and two studies that
+share a section (the paper's §5 study extends its §4 study) share results.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+from peenflow.engine import Graph
+from peenflow.study import load_study
+
+from .arc_height import arc_height
+from .control_curve import control_curve
+from .coverage_curve import coverage_curve
+from .indentation import indentation
+from .plots import write_plots
+from .residual_profile import residual_profile
+from .rev_size import rev_size
+from .saturation import saturation
+from .single_impact import single_impact
+from .strip_runs import strip_runs
+from .target_runs import target_runs
+from .target_velocity import target_velocity
+from .two_shot import dmin
+
+#: single-impact / two-shot block: half width and depth in shot diameters
+IMPACT_BLOCK_D = 2.0
+
+
+def material_params(m) -> dict:
+    jc = m.johnson_cook
+    return {
+        "E_Pa": m.youngs_modulus_Pa, "nu": m.poisson_ratio, "density_kg_m3": m.density_kg_m3,
+        "A_Pa": jc.A_Pa, "B_Pa": jc.B_Pa, "n": jc.n, "C": jc.C, "m": jc.m,
+        "reference_strain_rate_1_s": jc.reference_strain_rate_1_s,
+        "room_temperature_K": jc.room_temperature_K, "melt_temperature_K": jc.melt_temperature_K,
+    }
+
+
+def fidelity_params(f) -> dict:
+    return {
+        "element_size_m": f.element_size_m, "fine_depth_m": f.fine_depth_m, "grading_ratio": f.grading_ratio,
+        "time_step_safety": f.time_step_safety, "window_size_D": f.window_size_D,
+        "settle_tolerance": f.settle_tolerance, "relaxation_tolerance": f.relaxation_tolerance,
+        "lateral_boundary": f.lateral_boundary,
+    }
+
+
+def read_measured_profile(path: Path) -> dict:
+    """CSV with columns depth_mm, stress_MPa[, component] -> SI dict for ``residual_profile``."""
+    depth, stress, comp = [], [], "xx"
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            depth.append(float(row["depth_mm"]) * 1e-3)
+            stress.append(float(row["stress_MPa"]) * 1e6)
+            comp = row.get("component") or comp
+    return {"depth_m": depth, "stress_Pa": stress, "component": comp}
+
+
+def build_graph(path) -> Graph:
+    study = load_study(path)
+    g = Graph(study.name)
+    D = study.shot.diameter_m
+    shot = {"radius_m": study.shot.radius_m, "density_kg_m3": study.shot.density_kg_m3,
+            "friction": study.shot.friction_coefficient}
+    fid = fidelity_params(study.fidelity)
+    dmin_settings = {"threshold": study.dmin.threshold, "resolution_m": study.dmin.resolution_m,
+                     "min_distance_m": study.dmin.min_distance_m, "max_distance_m": study.dmin.max_distance_m}
+    control = None
+
+    if study.almen is not None:
+        almen = study.almen
+        strip = almen.strip
+        smat = material_params(strip.material)
+        h = strip.thickness_m
+        if almen.rev_rule == "dmin":
+            angles = list(study.dmin.strip_angles_deg)
+            imp = g.sweep(single_impact, dims={"angle_deg": angles}, stage="strip_impact", params={
+                "material": smat, "shot": shot, "fidelity": fid, "velocity_m_s": study.dmin.strip_velocity_m_s,
+                "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(h, IMPACT_BLOCK_D * D)})
+            dm = g.sweep(dmin, dims={"angle_deg": angles}, upstream={"impact": imp}, stage="strip_dmin",
+                         params={"material": smat, "shot": shot, "fidelity": fid, "thickness_m": h, **dmin_settings})
+            rev = g.add(rev_size, upstream={"dmin": dm}, stage="strip_rev", params={
+                "rule": "dmin", "thickness_m": h, "shot_diameter_m": D,
+                "measure_side_m": None if almen.measure_size_mm is None else almen.measure_size_mm * 1e-3})
+        else:
+            rev = g.add(rev_size, stage="strip_rev", params={
+                "rule": almen.rev_rule, "thickness_m": h, "shot_diameter_m": D,
+                "side_m": None if almen.rev_size_mm is None else almen.rev_size_mm * 1e-3,
+                "measure_side_m": None if almen.measure_size_mm is None else almen.measure_size_mm * 1e-3})
+        sweep = {"angle_deg": list(almen.angles_deg), "velocity_m_s": list(almen.velocities_m_s)}
+        runs = g.sweep(strip_runs, dims={**sweep, "sequence": list(range(almen.sequences))}, upstream={"rev": rev},
+                       params={"material": smat, "shot": shot, "fidelity": fid, "shot_counts": list(almen.shot_counts)},
+                       point_params=lambda c: {"seed": study.seeds.seed("almen", c["sequence"])})
+        arc = g.sweep(arc_height, dims=sweep, upstream={"runs": runs}, params={
+            "strip_width_m": strip.width_m, "strip_thickness_m": h,
+            "youngs_modulus_Pa": strip.material.youngs_modulus_Pa, "gauge_span_m": strip.gauge_span_m})
+        sat = g.sweep(saturation, dims=sweep, upstream={"arc": arc}, params={"fit": almen.saturation_fit})
+        control = g.add(control_curve, upstream={"sat": sat}, params={"interpolation": almen.interpolation})
+
+    if study.target is not None:
+        t = study.target
+        tmat = material_params(t.material)
+        given = t.velocity_m_s is not None
+        vel = g.add(target_velocity, upstream={} if given else {"control": control}, params={
+            "intensity_mm": t.intensity_mm, "angle_deg": t.angle_deg, "rule": t.control_angle_rule,
+            "velocity_m_s": t.velocity_m_s})
+        imp_t = g.add(single_impact, upstream={"velocity": vel}, stage="target_impact", params={
+            "material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg,
+            "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(t.rev_thickness_m, IMPACT_BLOCK_D * D)})
+        dent = g.add(indentation, upstream={"impact": imp_t}, stage="target_indentation")
+        if t.rev_size_mm is None:
+            dm_t = g.add(dmin, upstream={"impact": imp_t}, stage="target_dmin", params={
+                "material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg,
+                "thickness_m": min(t.rev_thickness_m, 2 * IMPACT_BLOCK_D * D), **dmin_settings})
+            rev_t = g.add(rev_size, upstream={"dmin": dm_t}, stage="target_rev", params={
+                "rule": "dmin", "thickness_m": t.rev_thickness_m, "shot_diameter_m": D,
+                "measure_side_m": None if t.measure_size_mm is None else t.measure_size_mm * 1e-3})
+        else:
+            rev_t = g.add(rev_size, stage="target_rev", params={
+                "rule": "explicit", "thickness_m": t.rev_thickness_m, "shot_diameter_m": D,
+                "side_m": t.rev_size_mm * 1e-3,
+                "measure_side_m": None if t.measure_size_mm is None else t.measure_size_mm * 1e-3})
+        cov = g.add(coverage_curve, upstream={"dent": dent, "rev": rev_t}, params={
+            "angle_deg": t.angle_deg, "shot_radius_m": study.shot.radius_m,
+            "grid_points": study.coverage.grid_points, "max_shots": study.coverage.max_shots,
+            "shot_counts": None if study.coverage.shot_counts is None else list(study.coverage.shot_counts),
+            "sequences": study.coverage.sequences,
+            "seeds": list(study.seeds.seeds("coverage", study.coverage.sequences)),
+            "coverage_percent": t.coverage_percent})
+        runs_t = g.sweep(target_runs, dims={"sequence": list(range(t.sequences))},
+                         upstream={"rev": rev_t, "velocity": vel, "coverage": cov},
+                         params={"material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg},
+                         point_params=lambda c: {"seed": study.seeds.seed("target", c["sequence"])})
+        measured = read_measured_profile(Path(t.measured_profile_csv)) if t.measured_profile_csv else None
+        g.add(residual_profile, upstream={"runs": runs_t}, params={"measured": measured})
+
+    out_dir = Path(study.path).parent / f"{study.name}_plots"
+    g.reports.append(lambda graph, store: write_plots(graph, store, out_dir))
+    return g

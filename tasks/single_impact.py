@@ -1,0 +1,92 @@
+"""Stage ``single_impact``: one shot on a block of the target material (paper §3.1, §3.2.2).
+
+The block is centred on the impact point; a normal impact uses a quarter
+model (both vertical planes through the impact are symmetry planes), an
+oblique one a half model (symmetric about the plane of incidence y = 0).
+Surface fields are returned mirrored to the full block.
+
+Output (SI): the relaxed residual stress on the structured element grid
+(z, y, x, component), equivalent plastic strain, the deformed top surface
+uz(x, y) (positive into the target), the top-layer von Mises stress, the
+shot's rebound, and the energy balance of the impact.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from . import _kernel as K
+from ._common import peening_task, scalar, var
+
+
+def run_single_impact(material: dict, shot: dict, fidelity: dict, speed: float, angle_deg: float,
+                      half_width_m: float, thickness_m: float, threads: int = 1, record: bool = True):
+    normal = angle_deg == 90.0
+    mesh = K.impact_block(fidelity, half_width_m, thickness_m, fine_half=0.6 * half_width_m,
+                          symmetric_x=normal, symmetric_y=True)
+    centre, velocity = K.aimed_shot(shot, speed, angle_deg)
+    mat = K.kernel_material(material)
+    result = K.run_impacts(K.target(mesh, fidelity), mat, K.make_shots(shot, centre, velocity),
+                           K.kernel_options(fidelity, shot, mat, speed, angle_deg, threads, record=record,
+                                            record_every=4))
+    return mesh, result
+
+
+def impact_dataset(mesh, result, normal: bool) -> xr.Dataset:
+    stress, eps = K.grid_fields(mesh, result.stress, result.eps_p)
+    xc = 0.5 * (mesh.x[1:] + mesh.x[:-1])
+    yc = 0.5 * (mesh.y[1:] + mesh.y[:-1])
+    zc = 0.5 * (mesh.z[1:] + mesh.z[:-1])
+    uz = K.surface_uz(mesh, result.displacement)  # (nnx, nny)
+    vm_top = K.von_mises(stress[0]).T  # (nx, ny)
+    xs, ys, xcs, ycs = mesh.x, mesh.y, xc, yc
+    # mirror to the full surface (the model keeps x >= 0 if normal, and y >= 0)
+    uz = K.mirror_nodes(uz, 1)
+    vm_top = K.mirror_cells(vm_top, 1)
+    ys, ycs = K.mirror_axis(ys), np.concatenate([-ycs[::-1], ycs])
+    if normal:
+        uz = K.mirror_nodes(uz, 0)
+        vm_top = K.mirror_cells(vm_top, 0)
+        xs, xcs = K.mirror_axis(xs), np.concatenate([-xcs[::-1], xcs])
+    shots = result.shots
+    hist = result.histories[0] if result.histories else None
+    data = {
+        "stress_Pa": var(stress, ("z_cell", "y_cell", "x_cell", "component"), "Pa",
+                         "relaxed residual stress (model part)"),
+        "plastic_strain": var(eps, ("z_cell", "y_cell", "x_cell"), "", "equivalent plastic strain"),
+        "surface_uz_m": var(uz, ("x_node_full", "y_node_full"), "m", "top-surface displacement, + into target"),
+        "surface_von_mises_Pa": var(vm_top, ("x_cell_full", "y_cell_full"), "Pa", "top-layer von Mises residual"),
+        "restitution": var(float(shots["restitution"][0]), (), "", "-v_out,z / v_in,z"),
+        "peak_force_N": var(float(shots["peak_force"][0]), (), "N"),
+        "max_approach_m": var(float(shots["max_approach"][0]), (), "m", "deepest point of the shot below z = 0"),
+        "contact_time_s": var(float(shots["contact_duration"][0]), (), "s"),
+        "rebound_velocity_m_s": var(np.array([shots["vout_x"][0], shots["vout_y"][0], shots["vout_z"][0]]),
+                                    ("xyz",), "m/s"),
+        "energy_error": var(float(result.energy_error), (), "", "energy balance error / impact energy"),
+        "hourglass_ratio": var(float(result.hourglass_ratio), (), "", "hourglass / internal energy"),
+        "impact_x_m": var(0.0, (), "m"), "impact_y_m": var(0.0, (), "m"),
+    }
+    coords = {"x_cell": xc, "y_cell": yc, "z_cell": zc, "component": list(K.VOIGT),
+              "x_node_full": xs, "y_node_full": ys, "x_cell_full": xcs, "y_cell_full": ycs,
+              "xyz": ["x", "y", "z"], "z_node": mesh.z}
+    if hist is not None:
+        coords["time_s"] = hist["time"]
+        data["contact_force_N"] = var(hist["force"][:, 2] * (4 if normal else 2), ("time_s",), "N",
+                                      "normal contact force on the whole shot")
+        data["shot_z_m"] = var(hist["centre"][:, 2], ("time_s",), "m")
+    return xr.Dataset(data, coords=coords)
+
+
+@peening_task(version="1")
+def single_impact(velocity: xr.Dataset | None = None, *, material: dict, shot: dict, fidelity: dict,
+                  angle_deg: float, velocity_m_s: float | None = None, half_width_m: float,
+                  thickness_m: float, ctx=None) -> xr.Dataset:
+    """One impact; the speed is ``velocity_m_s`` or the upstream ``velocity`` result."""
+    speed = velocity_m_s if velocity_m_s is not None else scalar(velocity, "velocity_m_s")
+    mesh, result = run_single_impact(material, shot, fidelity, speed, angle_deg, half_width_m, thickness_m,
+                                     threads=ctx.threads if ctx else 1)
+    ds = impact_dataset(mesh, result, angle_deg == 90.0)
+    ds.attrs.update({"velocity_m_s": speed, "angle_deg": angle_deg, "wall_s": result.wall_time,
+                     "n_elements": int(mesh.n_elements)})
+    return ds
