@@ -1,0 +1,343 @@
+"""Driver: a sequence of rigid shots on an explicit FE target (the kernel's public API).
+
+    result = run_impacts(target, material, shots, options)
+
+Event-driven time (one shot at a time, in the given order):
+
+1. The target is at rest. The next shot flies in a straight line to the
+   exact instant it first touches a top-surface node (:func:`time_to_contact`);
+   no target step is taken during free flight. It is placed
+   ``options.lead_steps`` stable steps before that instant.
+2. Impact phase on the ACTIVE WINDOW (``options.window``): an element box
+   around the landing point, ``window_lateral`` x the estimated contact radius
+   laterally (plus the shot's tangential travel) and ``window_depth`` x it in
+   depth; nodes on window faces inside the mesh are held fixed, elements
+   outside are not integrated. ``window=False`` integrates the whole mesh.
+3. When the shot has left (no node in contact, moving away) the window is
+   damped (mass-proportional, :meth:`Model.settle_alpha`) until AT REST:
+   ``KE_window <= rest_ke_fraction * E_impact`` AND
+   ``max |v| <= rest_v_fraction * |v_shot|``. The shot is then discarded.
+4. At each count in ``snapshot_after`` and at the end, a COPY of the state is
+   relaxed over the whole mesh (:mod:`peenflow.fe.relaxation`) and stored.
+
+The estimated contact radius is the larger of the Hertz radius and Johnson's
+fully plastic radius (mean pressure ``3 A``) at the shot's normal speed
+(:mod:`peenflow.fe.shots`).
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from peenflow.fe import solver as S
+from peenflow.fe.contact import N_SHOT, S_I, S_M, S_MU, S_R
+from peenflow.fe.johnson_cook import Material
+from peenflow.fe.model import Model, Target
+from peenflow.fe.relaxation import relax
+from peenflow.fe.shots import Shots, hertz, johnson_plastic, time_to_contact
+from peenflow.fe.state import SHOT_RECORD_FIELDS, KernelState
+
+__all__ = ["Options", "ImpactRunResult", "Snapshot", "run_impacts", "Target", "Material", "Shots"]
+
+
+@dataclass(frozen=True)
+class Options:
+    """Numerical options (all dimensionless unless stated).
+
+    dt_safety : fraction of the stable step (recomputed every step).
+    friction : Coulomb coefficient shot/target (paper: 0.2).
+    hourglass : Flanagan-Belytschko stiffness coefficient Q_hg.
+    bulk_linear, bulk_quadratic : bulk-viscosity coefficients.
+    window : integrate only an active window around each impact.
+    window_lateral, window_depth : window half width / depth in estimated contact radii.
+    settle_damping : damping factor for settling after each impact (x pi c_s / L).
+    rest_ke_fraction, rest_v_fraction : "at rest" after an impact (x impact energy / speed).
+    relax_damping, relax_ke_fraction, relax_v_fraction : same for global relaxations.
+    lead_steps : the shot starts this many stable steps before touching.
+    threads : numba threads for the element loop (1 = serial kernel).
+    precision : "float64" (only option implemented).
+    record : keep per-step histories (contact force, shot trajectory, energies).
+    record_every : record one step in this many.
+    max_steps : step budget per phase.
+    dt_floor_fraction, runaway_fraction : safety thresholds (see safety.py).
+    """
+
+    dt_safety: float = 0.9
+    friction: float = 0.2
+    hourglass: float = 0.05
+    bulk_linear: float = 0.06
+    bulk_quadratic: float = 1.5
+    window: bool = True
+    window_lateral: float = 4.0
+    window_depth: float = 4.0
+    settle_damping: float = 1.0
+    rest_ke_fraction: float = 1e-6
+    rest_v_fraction: float = 1e-4
+    relax_damping: float = 1.0
+    relax_ke_fraction: float = 1e-8
+    relax_v_fraction: float = 1e-5
+    lead_steps: int = 2
+    threads: int = 1
+    precision: str = "float64"
+    record: bool = False
+    record_every: int = 1
+    max_steps: int = 2_000_000
+    dt_floor_fraction: float = 0.05
+    runaway_fraction: float = 0.25
+
+    def __post_init__(self):
+        if not (0 < self.dt_safety <= 1):
+            raise ValueError("dt_safety must be in (0, 1]")
+        if self.precision != "float64":
+            raise NotImplementedError("only precision='float64' is implemented (see BENCHMARKS.md)")
+        if self.threads < 1:
+            raise ValueError("threads must be >= 1")
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """Relaxed target after ``n_shots`` shots.
+
+    stress : (n_elements, 6) Pa (xx yy zz yz xz xy); eps_p : (n_elements,);
+    displacement : (n_nodes, 3) m.
+    """
+
+    n_shots: int
+    stress: np.ndarray
+    eps_p: np.ndarray
+    displacement: np.ndarray
+
+
+@dataclass(frozen=True)
+class ImpactRunResult:
+    """What :func:`run_impacts` returns (SI units).
+
+    stress : (n_elements, 6) Pa, relaxed residual stress, Voigt xx yy zz yz xz xy.
+    eps_p : (n_elements,) equivalent plastic strain.
+    displacement : (n_nodes, 3) m, relaxed nodal displacements.
+    centroids : (n_elements, 3) m, reference element centroids.
+    nodes : (n_nodes, 3) m, reference node positions.
+    snapshots : {n_shots: Snapshot}.
+    shots : dict of per-shot arrays, keys ``SHOT_RECORD_FIELDS`` (times s,
+      velocities m/s, restitution = -v_out,z / v_in,z, max_approach m = deepest
+      point of the shot below z = 0, max_overlap m, peak_force N (full shot),
+      max_contact_radius m, energy_error = max |balance error| / impact energy).
+    histories : list (one per shot, if options.record) of dicts of arrays:
+      time s, force (n,3) N on the shot, centre (n,3) m, velocity (n,3) m/s,
+      ke_target, ke_shot, w_int, w_plastic, w_hourglass, w_viscous, e_contact,
+      e_damping (J), dt s.
+    energy : dict of cumulative energies (J) of the final state before relaxation.
+    hourglass_ratio : W_hourglass / W_int.
+    energy_error : largest per-shot energy balance error / impact energy.
+    final_state : KernelState (unrelaxed; resume from it).
+    wall_time : s.
+    """
+
+    stress: np.ndarray
+    eps_p: np.ndarray
+    displacement: np.ndarray
+    centroids: np.ndarray
+    nodes: np.ndarray
+    snapshots: dict
+    shots: dict
+    histories: list
+    energy: dict
+    hourglass_ratio: float
+    energy_error: float
+    final_state: KernelState
+    wall_time: float
+
+
+def _shot_vector(shots: Shots, i: int, model: Model, friction: float) -> tuple[np.ndarray, float]:
+    """Kernel shot vector and the modelled mass fraction (symmetry planes)."""
+    s = np.zeros(N_SHOT)
+    s[0:3] = shots.centres[i]
+    s[3:6] = shots.velocities[i]
+    s[6:9] = shots.spins[i]
+    frac = 1.0
+    m = model.mesh
+    if model.target.lateral == "symmetric":
+        tol = 1e-9 * (m.x[-1] - m.x[0])
+        for val, lo, hi in ((s[0], m.x[0], m.x[-1]), (s[1], m.y[0], m.y[-1])):
+            if abs(val - lo) <= tol or abs(val - hi) <= tol:
+                frac *= 0.5
+    s[S_M] = shots.mass * frac
+    s[S_I] = shots.inertia * frac
+    s[S_R] = shots.radius
+    s[S_MU] = friction
+    return s, frac
+
+
+def _contact_estimates(shots: Shots, material: Material, vn: float) -> tuple[float, float]:
+    """(contact radius m, contact time s) estimates for window sizing."""
+    h = hertz(shots.radius, shots.mass, max(vn, 1e-9), material.E, material.nu)
+    p = johnson_plastic(shots.radius, shots.mass, max(vn, 1e-9), 3.0 * material.A)
+    a = max(h["a"], p["a"])
+    # plastic contact lasts about pi/2 sqrt(m / (2 pi R p)) ~ the Hertz time; take the larger
+    tp = 0.5 * math.pi * math.sqrt(shots.mass / (2.0 * math.pi * shots.radius * 3.0 * material.A))
+    return a, max(h["t"], tp)
+
+
+def run_impacts(
+    target: Target,
+    material: Material,
+    shots: Shots,
+    options: Options = Options(),
+    *,
+    state: dict | KernelState | None = None,
+    snapshot_after=(),
+    on_shot_done: Callable | None = None,
+) -> ImpactRunResult:
+    """Simulate ``shots`` hitting ``target`` one after the other; return the relaxed residual state.
+
+    Parameters
+    ----------
+    target : Target -- mesh (m) + boundary conditions.
+    material : Material -- elastic constants + Johnson-Cook parameters (eq. 1).
+    shots : Shots -- centres (n,3) m, velocities (n,3) m/s, radius m, density kg/m^3, spins.
+    options : Options -- numerics.
+    state : a dict from ``state_exporter()`` / ``KernelState.to_dict()`` (or a
+        KernelState) to resume from; shots before its ``shot_index`` are skipped.
+    snapshot_after : shot counts (e.g. 10, 20, 40) after which a relaxed copy is stored.
+    on_shot_done : ``f(shot_index, state_exporter)`` called between shots, after
+        shot ``shot_index`` (0-based) has settled; ``state_exporter()`` returns
+        the full state as a dict of numpy arrays (checkpoint).
+
+    Raises
+    ------
+    KernelInstabilityError : NaN, negative volume, distortion, step collapse,
+        runaway energy, or a phase that never settles.
+    """
+    t_wall = _time.perf_counter()
+    model = Model(target, material, hourglass=options.hourglass, bulk_linear=options.bulk_linear,
+                  bulk_quadratic=options.bulk_quadratic)
+    if state is None:
+        st = model.new_state()
+    elif isinstance(state, KernelState):
+        st = state.copy()
+    else:
+        st = KernelState.from_dict(state)
+    if st.x.shape != model.nodes0.shape or st.stress.shape[0] != model.mesh.n_elements:
+        raise ValueError("restored state does not match the target mesh")
+    records = [row for row in st.shot_records]
+    histories = []
+    snapshots = {}
+    snap_set = {int(n) for n in snapshot_after}
+    e_ref = 0.5 * shots.mass * float(np.max(np.sum(shots.velocities**2, axis=1))) if len(shots) else 1.0
+    v_ref = float(np.sqrt(np.max(np.sum(shots.velocities**2, axis=1)))) if len(shots) else 1.0
+    top = model.nnx * model.nny
+
+    def exporter():
+        return st.with_records(np.array(records).reshape(-1, len(SHOT_RECORD_FIELDS))).to_dict()
+
+    start = int(st.shot_index[0])
+    for i in range(start, len(shots)):
+        shot, frac = _shot_vector(shots, i, model, options.friction)
+        vel = shot[3:6].copy()
+        speed = float(np.linalg.norm(vel))
+        e_imp = 0.5 * shots.mass * speed**2 * frac
+        row = np.zeros(len(SHOT_RECORD_FIELDS))
+        row[0] = i
+        row[5:8] = vel
+        row[18] = e_imp / frac
+        t_hit = time_to_contact(st.x[:top], shot[0:3].copy(), vel, shots.radius) if speed > 0 else -1.0
+        if t_hit < 0:
+            row[1] = 0.0  # missed the target
+            records.append(row)
+        else:
+            # event-driven skip: free flight to just before contact
+            a_est, t_est = _contact_estimates(shots, material, abs(vel[2]))
+            dt_est = options.dt_safety * float(np.min(np.diff(model.mesh.z))) / material.wave_speed
+            lead = options.lead_steps * dt_est
+            t_fly = max(t_hit - lead / max(1.0, 1.0), 0.0)
+            shot[0:3] += vel * t_fly
+            st.ctl[S.C_TIME] += t_fly
+            hit_xy = shot[0:2] + vel[0:2] * (t_hit - t_fly)
+            if options.window:
+                travel = 1.5 * t_est * vel[0:2]
+                lat = options.window_lateral * a_est
+                win = model.window_box(
+                    hit_xy[0], hit_xy[1],
+                    (lat + max(-travel[0], 0.0), lat + max(travel[0], 0.0)),
+                    (lat + max(-travel[1], 0.0), lat + max(travel[1], 0.0)),
+                    options.window_depth * a_est,
+                )
+            else:
+                win = model.full_window
+            cap = 0
+            if options.record:
+                cap = 200_000
+            res = model.phase(
+                st, S.MODE_IMPACT, win, shot,
+                safety=options.dt_safety,
+                alpha=model.settle_alpha(win, options.settle_damping),
+                rest_ke=options.rest_ke_fraction * e_imp,
+                rest_v=options.rest_v_fraction * speed,
+                e_ref=e_imp,
+                force_scale=1.0 / frac,
+                dt_floor_fraction=options.dt_floor_fraction,
+                runaway=options.runaway_fraction,
+                max_steps=options.max_steps,
+                record_every=options.record_every,
+                record_capacity=cap,
+                threads=options.threads,
+                where="impact",
+                shot_index=i,
+            )
+            info = res.info
+            row[1] = 1.0 if info[S.I_T_CONTACT] >= 0 else 0.0
+            row[2] = info[S.I_T_CONTACT]
+            row[3] = info[S.I_T_SEPARATE]
+            row[4] = info[S.I_T_SEPARATE] - info[S.I_T_CONTACT]
+            row[8:11] = info[S.I_VX: S.I_VZ + 1]
+            row[11] = -info[S.I_VZ] / vel[2] if vel[2] != 0 else np.nan
+            row[12] = info[S.I_MAX_APPROACH]
+            row[13] = info[S.I_MAX_OVERLAP]
+            row[14] = info[S.I_PEAK_FORCE]
+            row[15] = info[S.I_MAX_RADIUS]
+            row[16] = info[S.I_STEPS]
+            row[17] = info[S.I_E_ERR] / e_imp
+            row[19:25] = win
+            records.append(row)
+            if options.record:
+                r = res.records
+                histories.append({
+                    "time": r[:, 0], "force": r[:, 1:4], "centre": r[:, 4:7], "velocity": r[:, 7:10],
+                    "ke_target": r[:, 10], "ke_shot": r[:, 11], "w_int": r[:, 12], "w_plastic": r[:, 13],
+                    "w_hourglass": r[:, 14], "w_viscous": r[:, 15], "e_contact": r[:, 16], "e_damping": r[:, 17],
+                    "dt": r[:, 18], "mass_fraction": frac,
+                })
+        st.shot_index[0] = i + 1
+        if (i + 1) in snap_set:
+            rs, _ = relax(model, st, options, e_ref, v_ref, where=f"snapshot relaxation after {i + 1} shots")
+            snapshots[i + 1] = Snapshot(i + 1, rs.stress.copy(), rs.eps_p.copy(), rs.x - model.nodes0)
+        if on_shot_done is not None:
+            on_shot_done(i, exporter)
+    final = st.with_records(np.array(records).reshape(-1, len(SHOT_RECORD_FIELDS)))
+    rs, _ = relax(model, final, options, e_ref, v_ref, where="final relaxation")
+    rec = final.shot_records
+    shot_dict = {name: rec[:, k].copy() for k, name in enumerate(SHOT_RECORD_FIELDS)}
+    en = final.energy
+    energy = {"w_int": en[S.E_INT], "w_plastic": en[S.E_PL], "w_hourglass": en[S.E_HG], "w_viscous": en[S.E_VISC],
+              "e_contact": en[S.E_CONTACT], "e_damping": en[S.E_DAMP]}
+    hit = rec[:, 1] > 0 if len(rec) else np.zeros(0, bool)
+    return ImpactRunResult(
+        stress=rs.stress.copy(),
+        eps_p=rs.eps_p.copy(),
+        displacement=rs.x - model.nodes0,
+        centroids=model.centroids,
+        nodes=model.nodes0,
+        snapshots=snapshots,
+        shots=shot_dict,
+        histories=histories,
+        energy=energy,
+        hourglass_ratio=en[S.E_HG] / en[S.E_INT] if en[S.E_INT] > 0 else 0.0,
+        energy_error=float(np.max(rec[hit, 17])) if np.any(hit) else 0.0,
+        final_state=final,
+        wall_time=_time.perf_counter() - t_wall,
+    )

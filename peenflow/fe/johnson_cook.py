@@ -1,0 +1,243 @@
+"""Johnson-Cook elasto-viscoplasticity (paper eq. 1) and its stress update.
+
+Flow stress (the STANDARD Johnson-Cook form)::
+
+    sigma_y = (A + B eps_p^n) (1 + C ln eps_dot*) (1 - T*^m)
+
+The paper prints eq. (1) with ``[1 - C ln(eps_dot*)]``; with C > 0 that would
+make the steel softer at higher rate, contrary to the source of its constants
+(Johnson & Cook 1983, Bhuvaraghan et al.) -- it is a typo and the standard
+``1 + C ln`` form is implemented here.
+
+* ``eps_dot* = eps_dot_p / eps_dot_0`` with a configurable reference rate
+  ``eps_dot_0`` (default 1 /s); below the reference rate there is no rate
+  effect (``eps_dot* < 1`` -> factor 1).
+* ``T* = (T - T_room) / (T_melt - T_room)`` clipped to [0, 1]; ``m = 0`` means
+  *no thermal softening* (the literal ``1 - T*^0 = 0`` would be nonsense).
+* Temperature is a per-element field; with ``adiabatic=True`` it rises by
+  ``beta sigma_y d eps_p / (rho c_p)`` (Taylor-Quinney ``beta = 0.9``).
+
+Stress update per element and step (hypo-elastic, Jaumann rate, radial
+return): rotate the old stress with the spin, add the elastic trial increment
+``lambda tr(D) dt I + 2 mu D dt``, and if the von Mises trial stress ``q``
+exceeds the current static flow stress solve
+``q - 3 mu d_eps_p = sigma_y(eps_p + d_eps_p, d_eps_p / dt)`` for ``d_eps_p``
+by Newton iterations safeguarded by bisection (the residual is convex and
+decreasing, so the bracket ``[0, (q - sigma_y_static)/(3 mu)]`` always holds
+the root).
+
+Cost when ``C = 0`` and ``m = 0``: elastic elements compare ``q`` with the
+stored static flow stress only (no ``pow``/``log``); yielding elements skip
+the rate and thermal terms (``RATE``/``THERMAL`` flags are loop-invariant and
+only read inside the return mapping). ``bench_kernel.py`` shows equal speed
+for ``C = 0`` and ``C > 0`` in the elastic-dominated impact window.
+
+Material parameters travel to numba as one float64 vector, see
+:meth:`Material.to_array` and the ``M_*`` indices below.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from peenflow._jit import jit
+
+# indices into the material vector
+M_LAM, M_MU, M_RHO, M_A, M_B, M_N, M_C, M_RATE0, M_M = 0, 1, 2, 3, 4, 5, 6, 7, 8
+M_TROOM, M_TMELT, M_HEAT, M_RATE_ON, M_THERMAL_ON, M_ADIABATIC = 9, 10, 11, 12, 13, 14
+M_BULK_LIN, M_BULK_QUAD, M_HG = 15, 16, 17
+N_MAT = 18
+
+
+@dataclass(frozen=True)
+class Material:
+    """Elastic constants + Johnson-Cook parameters of the target (SI units).
+
+    E : Pa, Young's modulus;  nu : -, Poisson's ratio;  density : kg/m^3.
+    A, B : Pa; n, C, m : -  (eq. 1); ref_strain_rate : 1/s (eps_dot_0).
+    T_room, T_melt : K; initial_temperature : K; specific_heat : J/(kg K);
+    taylor_quinney : - (fraction of plastic work turned into heat);
+    adiabatic : bool, heat the element with its plastic work.
+    """
+
+    E: float
+    nu: float
+    density: float
+    A: float
+    B: float = 0.0
+    n: float = 1.0
+    C: float = 0.0
+    m: float = 0.0
+    ref_strain_rate: float = 1.0
+    T_room: float = 293.0
+    T_melt: float = 1793.0
+    initial_temperature: float = 293.0
+    specific_heat: float = 477.0
+    taylor_quinney: float = 0.9
+    adiabatic: bool = False
+
+    def __post_init__(self):
+        if not (self.E > 0 and -1 < self.nu < 0.5 and self.density > 0):
+            raise ValueError("need E > 0, -1 < nu < 0.5, density > 0")
+        if self.A <= 0 or self.B < 0 or self.n <= 0 or self.C < 0 or self.m < 0:
+            raise ValueError("Johnson-Cook needs A > 0, B >= 0, n > 0, C >= 0, m >= 0")
+        if self.ref_strain_rate <= 0 or self.T_melt <= self.T_room:
+            raise ValueError("need ref_strain_rate > 0 and T_melt > T_room")
+
+    @property
+    def lam(self) -> float:
+        return self.E * self.nu / ((1 + self.nu) * (1 - 2 * self.nu))
+
+    @property
+    def mu(self) -> float:
+        return self.E / (2 * (1 + self.nu))
+
+    @property
+    def wave_speed(self) -> float:
+        """Dilatational wave speed sqrt((lambda + 2 mu)/rho), m/s."""
+        return math.sqrt((self.lam + 2 * self.mu) / self.density)
+
+    @property
+    def thermal_on(self) -> bool:
+        return self.m > 0 and (self.adiabatic or self.initial_temperature > self.T_room)
+
+    def to_array(self, bulk_linear: float = 0.06, bulk_quadratic: float = 1.5, hourglass: float = 0.05) -> np.ndarray:
+        """The float64 material vector the numba kernels read (see ``M_*``)."""
+        a = np.zeros(N_MAT)
+        a[M_LAM], a[M_MU], a[M_RHO] = self.lam, self.mu, self.density
+        a[M_A], a[M_B], a[M_N], a[M_C], a[M_RATE0], a[M_M] = self.A, self.B, self.n, self.C, self.ref_strain_rate, self.m
+        a[M_TROOM], a[M_TMELT] = self.T_room, self.T_melt
+        a[M_HEAT] = self.taylor_quinney / (self.density * self.specific_heat)
+        a[M_RATE_ON] = 1.0 if self.C > 0 else 0.0
+        a[M_THERMAL_ON] = 1.0 if self.thermal_on else 0.0
+        a[M_ADIABATIC] = 1.0 if (self.adiabatic and self.m > 0) else 0.0
+        a[M_BULK_LIN], a[M_BULK_QUAD], a[M_HG] = bulk_linear, bulk_quadratic, hourglass
+        return a
+
+    def flow_stress(self, eps_p, rate=0.0, T=None):
+        """Eq. (1) in plain numpy (for tests and plots): Pa."""
+        eps_p = np.asarray(eps_p, float)
+        s = self.A + self.B * np.power(np.maximum(eps_p, 0.0), self.n)
+        r = np.maximum(np.asarray(rate, float) / self.ref_strain_rate, 1.0)
+        s = s * (1 + self.C * np.log(r))
+        if self.m > 0 and T is not None:
+            ts = np.clip((np.asarray(T, float) - self.T_room) / (self.T_melt - self.T_room), 0, 1)
+            s = s * (1 - ts**self.m)
+        return s
+
+
+@jit
+def thermal_factor(temp, mat):
+    """``1 - T*^m`` of eq. (1) (1 when the thermal term is off)."""
+    if mat[M_THERMAL_ON] == 0.0:
+        return 1.0
+    ts = (temp - mat[M_TROOM]) / (mat[M_TMELT] - mat[M_TROOM])
+    if ts <= 0.0:
+        return 1.0
+    if ts >= 1.0:
+        return 0.0
+    return 1.0 - ts ** mat[M_M]
+
+
+@jit
+def static_flow_stress(eps_p, theta, mat):
+    """``(A + B eps_p^n)(1 - T*^m)``, Pa."""
+    h = mat[M_A]
+    if eps_p > 0.0:
+        h += mat[M_B] * eps_p ** mat[M_N]
+    return h * theta
+
+
+@jit
+def radial_return(q_trial, eps_p, dt, theta, mat):
+    """Solve ``q_trial - 3 mu d = sigma_y(eps_p + d, d/dt)`` for ``d >= 0``.
+
+    Returns ``(d_eps_p, sigma_y)`` with sigma_y the flow stress at the solution (Pa).
+    """
+    mu3 = 3.0 * mat[M_MU]
+    A, B, n, C = mat[M_A], mat[M_B], mat[M_N], mat[M_C]
+    rate_on = mat[M_RATE_ON] != 0.0
+    rate_scale = 1.0 / (dt * mat[M_RATE0])
+    hi = (q_trial - static_flow_stress(eps_p, theta, mat)) / mu3
+    if hi <= 0.0:
+        return 0.0, q_trial
+    lo = 0.0
+    d = hi
+    sy = q_trial
+    for _ in range(60):
+        e = eps_p + d
+        if e < 1e-12:
+            e = 1e-12
+        en = e ** n
+        stat = A + B * en
+        dstat = n * B * en / e
+        R = 1.0
+        dR = 0.0
+        if rate_on:
+            r = d * rate_scale
+            if r > 1.0:
+                R = 1.0 + C * math.log(r)
+                dR = C / d
+        sy = stat * R * theta
+        f = q_trial - mu3 * d - sy
+        if f > 0.0:
+            lo = d
+        else:
+            hi = d
+        if abs(f) <= 1e-12 * q_trial or hi - lo <= 1e-15 * (1.0 + eps_p):
+            break
+        df = -mu3 - (dstat * R + stat * dR) * theta
+        dn = d - f / df
+        if dn <= lo or dn >= hi:
+            dn = 0.5 * (lo + hi)
+        d = dn
+    return d, sy
+
+
+@jit
+def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt, eps_p, sy_static, temp, mat):
+    """Jaumann-rotated hypo-elastic trial + Johnson-Cook radial return.
+
+    Stress ``s`` (Pa) and rate of deformation ``d`` (1/s, tensor components,
+    NOT engineering shear) in Voigt order xx yy zz yz xz xy; spin
+    ``w = (W_yz, W_xz, W_xy)`` (1/s, W = (L - L^T)/2). Returns the new stress
+    (6 values), ``d_eps_p`` and the flow stress (Pa; the static one if elastic).
+    """
+    lam = mat[M_LAM]
+    mu = mat[M_MU]
+    # Jaumann rotation: s += dt (W s - s W) = dt (M + M^T), M = W s
+    # W = [[0, wxy, wxz], [-wxy, 0, wyz], [-wxz, -wyz, 0]]
+    wyz, wxz, wxy = w0, w1, w2
+    sxx, syy, szz, syz, sxz, sxy = s0, s1, s2, s3, s4, s5
+    m00 = wxy * sxy + wxz * sxz
+    m11 = -wxy * sxy + wyz * syz
+    m22 = -wxz * sxz - wyz * syz
+    m01 = wxy * syy + wxz * syz
+    m10 = -wxy * sxx + wyz * sxz
+    m02 = wxy * syz + wxz * szz
+    m20 = -wxz * sxx - wyz * sxy
+    m12 = -wxy * sxz + wyz * szz
+    m21 = -wxz * sxy - wyz * syy
+    tr = (d0 + d1 + d2) * dt
+    lt = lam * tr
+    mu2 = 2.0 * mu * dt
+    t0 = sxx + dt * 2.0 * m00 + lt + mu2 * d0
+    t1 = syy + dt * 2.0 * m11 + lt + mu2 * d1
+    t2 = szz + dt * 2.0 * m22 + lt + mu2 * d2
+    t3 = syz + dt * (m12 + m21) + mu2 * d3
+    t4 = sxz + dt * (m02 + m20) + mu2 * d4
+    t5 = sxy + dt * (m01 + m10) + mu2 * d5
+    p = (t0 + t1 + t2) / 3.0
+    a0 = t0 - p
+    a1 = t1 - p
+    a2 = t2 - p
+    q = math.sqrt(1.5 * (a0 * a0 + a1 * a1 + a2 * a2 + 2.0 * (t3 * t3 + t4 * t4 + t5 * t5)))
+    if q <= sy_static or dt <= 0.0:
+        return t0, t1, t2, t3, t4, t5, 0.0, sy_static
+    theta = thermal_factor(temp, mat)
+    deps, sy = radial_return(q, eps_p, dt, theta, mat)
+    f = (q - 3.0 * mu * deps) / q
+    return p + f * a0, p + f * a1, p + f * a2, f * t3, f * t4, f * t5, deps, sy

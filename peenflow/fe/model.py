@@ -1,0 +1,165 @@
+"""The static part of a run: mesh arrays, masses, fixities, material vector.
+
+:class:`Model` is built once per run from the user's target, material and
+options, and offers :meth:`Model.phase`, one call of the numba loop
+(:func:`peenflow.fe.solver.run_phase`) on a :class:`KernelState`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from peenflow.fe import solver as S
+from peenflow.fe.boundary import node_fixity
+from peenflow.fe.johnson_cook import Material
+from peenflow.fe.mesh import BoxMesh
+from peenflow.fe.safety import check_status
+from peenflow.fe.state import KernelState
+
+
+@dataclass(frozen=True)
+class Target:
+    """The target: a structured mesh and its boundary conditions.
+
+    mesh : BoxMesh (m);  lateral : "symmetric" | "free";  bottom : "fixed" | "free".
+    """
+
+    mesh: BoxMesh
+    lateral: str = "symmetric"
+    bottom: str = "fixed"
+
+
+@dataclass(frozen=True)
+class PhaseResult:
+    """Summary of one phase: ``info`` (solver.N_INFO,) and records (n, solver.N_REC)."""
+
+    status: int
+    info: np.ndarray
+    records: np.ndarray
+
+
+class Model:
+    """Static arrays of a run (built once; not part of the checkpointed state)."""
+
+    def __init__(self, target: Target, material: Material, *, hourglass=0.05, bulk_linear=0.06, bulk_quadratic=1.5):
+        mesh = target.mesh
+        self.target = target
+        self.mesh = mesh
+        self.material = material
+        self.nodes0 = mesh.node_coordinates()
+        self.centroids = mesh.element_centroids()
+        self.vol0 = mesh.element_volumes()
+        self.mass = mesh.lumped_mass(material.density)
+        self.bc = node_fixity(mesh, target.lateral, target.bottom)
+        self.mat = material.to_array(bulk_linear, bulk_quadratic, hourglass)
+        self.nnx, self.nny, self.nnz = mesh.shape_nodes
+        self.nx, self.ny, self.nz = mesh.shape_elements
+        self.cand = np.zeros(self.nnx * self.nny, dtype=np.int64)
+        self.dn = np.zeros((self.nnx * self.nny, 4))
+        self.top = np.arange(self.nnx * self.nny)
+
+    def new_state(self) -> KernelState:
+        m = self.material
+        from peenflow.fe.johnson_cook import static_flow_stress, thermal_factor
+
+        sy0 = static_flow_stress(0.0, thermal_factor(m.initial_temperature, self.mat), self.mat)
+        return KernelState.initial(self.nodes0, self.mesh.n_elements, sy0, m.initial_temperature)
+
+    @property
+    def full_window(self) -> np.ndarray:
+        return np.array([0, self.nx, 0, self.ny, 0, self.nz], dtype=np.int64)
+
+    def hold_flags(self, win: np.ndarray) -> np.ndarray:
+        """Window faces interior to the mesh are held fixed (order i0 i1 j0 j1 k0 k1)."""
+        return np.array(
+            [win[0] > 0, win[1] < self.nx, win[2] > 0, win[3] < self.ny, win[4] > 0, win[5] < self.nz], dtype=np.int64
+        )
+
+    def window_box(self, xc: float, yc: float, half_x: tuple, half_y: tuple, depth: float) -> np.ndarray:
+        """Element index box covering ``[xc - half_x[0], xc + half_x[1]] x [...] x [0, depth]``."""
+        m = self.mesh
+        i0 = max(0, int(np.searchsorted(m.x, xc - half_x[0], side="right")) - 1)
+        i1 = min(self.nx, int(np.searchsorted(m.x, xc + half_x[1], side="left")))
+        j0 = max(0, int(np.searchsorted(m.y, yc - half_y[0], side="right")) - 1)
+        j1 = min(self.ny, int(np.searchsorted(m.y, yc + half_y[1], side="left")))
+        k1 = min(self.nz, int(np.searchsorted(m.z, depth, side="left")))
+        return np.array([i0, max(i1, i0 + 1), j0, max(j1, j0 + 1), 0, max(k1, 1)], dtype=np.int64)
+
+    def phase(
+        self,
+        state: KernelState,
+        mode: int,
+        win: np.ndarray,
+        shot: np.ndarray,
+        *,
+        safety: float,
+        alpha: float,
+        rest_ke: float,
+        rest_v: float,
+        e_ref: float,
+        force_scale: float = 1.0,
+        dt_floor_fraction: float = 0.05,
+        runaway: float = 0.25,
+        max_steps: int = 1_000_000,
+        record_every: int = 0,
+        record_capacity: int = 0,
+        threads: int = 1,
+        where: str = "impact",
+        shot_index=None,
+        raise_on_error: bool = True,
+    ) -> PhaseResult:
+        """Run one phase on ``state`` (in place) and raise on instability."""
+        win = np.ascontiguousarray(win, dtype=np.int64)
+        hold = self.hold_flags(win)
+        s = state
+        # forces and stable step at the current state, from the window's elements
+        s.f[:] = 0.0
+        dt0, st = S.initial_dt(s.x, s.v, s.f, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat,
+                               self.nnx, self.nny, self.nx, self.ny, win)
+        check_status(st, where=where, shot_index=shot_index, time=float(s.ctl[S.C_TIME]))
+        ctl = s.ctl
+        ctl[S.C_DT_PREV] = 0.0
+        ctl[S.C_DT_NEXT] = dt0
+        ctl[S.C_SAFETY] = safety
+        ctl[S.C_ALPHA] = alpha
+        ctl[S.C_REST_KE] = rest_ke
+        ctl[S.C_REST_V] = rest_v
+        ctl[S.C_E_REF] = e_ref
+        ctl[S.C_DT_FLOOR] = dt_floor_fraction * safety * dt0
+        ctl[S.C_RUNAWAY] = runaway
+        ctl[S.C_OMEGA_C2] = 0.0
+        ctl[S.C_FORCE_SCALE] = force_scale
+        info = np.zeros(S.N_INFO)
+        rec = np.zeros((max(record_capacity, 1), S.N_REC))
+        parallel = threads > 1
+        if parallel:
+            numba.set_num_threads(threads)
+        status = S.run_phase(
+            mode, parallel, max_steps, record_every if record_capacity > 0 else 0,
+            s.x, s.v, s.f, self.mass, self.bc, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat,
+            self.mesh.x, self.mesh.y, self.nnx, self.nny, self.nx, self.ny, win, hold,
+            shot, ctl, s.energy, rec, info, self.cand, self.dn,
+        )
+        if raise_on_error:
+            check_status(status, where=where, shot_index=shot_index, time=float(ctl[S.C_TIME]))
+        return PhaseResult(int(status), info, rec[: int(info[S.I_NREC])].copy())
+
+    def settle_alpha(self, win: np.ndarray, settle_damping: float) -> float:
+        """Mass-proportional damping rate (1/s) for settling a window / the mesh.
+
+        ``alpha = settle_damping * pi * c_shear / L`` with ``L`` the window's
+        largest extent (lateral half width or depth): about twice the lowest
+        shear-mode frequency of the held box, i.e. near-critical damping of
+        the slowest mode; higher modes are damped at ``alpha / 2`` per second.
+        """
+        m = self.mesh
+        lx = m.x[win[1]] - m.x[win[0]]
+        ly = m.y[win[3]] - m.y[win[2]]
+        lz = m.z[win[5]] - m.z[win[4]]
+        L = max(0.5 * lx, 0.5 * ly, lz)
+        cs = math.sqrt(self.material.mu / self.material.density)
+        return settle_damping * math.pi * cs / L

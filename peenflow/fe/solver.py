@@ -1,0 +1,295 @@
+"""Central-difference explicit loop over an active window (numba).
+
+One call of :func:`run_phase` integrates the target inside an element index
+box (the *active window*; the whole mesh for a full run or a global
+relaxation) with at most one shot in contact, until a stop condition:
+
+* ``MODE_IMPACT``: the shot hits, leaves (no node in contact and the shot
+  moving away from the surface), then the window is damped to rest;
+* ``MODE_RELAX``: damped from the start until at rest.
+
+Step ``n -> n+1`` (lumped mass, variable step)::
+
+    dt   = safety * min_e dt_e       (recomputed EVERY step from the deformed
+                                      elements, + contact/hourglass terms)
+    v   += (dt_prev + dt)/2 * (f/m - alpha v_mid)    (alpha: damping, 0 in impact)
+    x   += dt v ;  c_shot += dt V_shot
+    kinematic contact correction (contact.py)
+    element pass at x_{n+1}: stresses, forces f, next dt_e
+
+Window: nodes on a window face that is not a mesh face are held fixed (their
+elements outside the window are not integrated); nodes on mesh faces keep
+the mesh's boundary conditions (``bc`` masks).
+
+"At rest": every 10 steps after separation (impact) or always (relax),
+``KE_window <= rest_ke`` (J) AND ``max |v| <= rest_v`` (m/s); both are set by
+the driver (relative to the shot's impact energy and speed).
+
+Safety (status codes, the Python driver raises, see safety.py): NaN/Inf,
+negative volume, excessive distortion (V/V0 outside [0.1, 10]), step collapse
+(``dt < dt_floor``), runaway energy (energy balance error > ``runaway`` x the
+reference energy), step budget exhausted.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from peenflow._jit import jit
+from peenflow.fe.contact import contact_kinematic
+from peenflow.fe.element import element_pass, element_pass_parallel
+
+MODE_IMPACT = 0
+MODE_RELAX = 1
+
+# status codes (see safety.py for the messages)
+ST_OK = 0
+ST_NEGATIVE_VOLUME = 2
+ST_DISTORTION = 3
+ST_NAN = 4
+ST_DT_COLLAPSE = 5
+ST_RUNAWAY = 6
+ST_MAX_STEPS = 7
+
+# control vector indices (float64)
+C_DT_PREV, C_DT_NEXT, C_TIME, C_SAFETY, C_ALPHA, C_REST_KE, C_REST_V, C_E_REF = 0, 1, 2, 3, 4, 5, 6, 7
+C_DT_FLOOR, C_RUNAWAY, C_OMEGA_C2, C_FORCE_SCALE = 8, 9, 10, 11
+N_CTL = 12
+
+# energy accumulator indices (J, cumulative over the run)
+E_INT, E_PL, E_HG, E_VISC, E_CONTACT, E_DAMP = 0, 1, 2, 3, 4, 5
+N_EN = 6
+
+# phase info indices
+I_STATUS, I_STEPS, I_T_CONTACT, I_T_SEPARATE, I_MAX_APPROACH, I_MAX_OVERLAP = 0, 1, 2, 3, 4, 5
+I_PEAK_FORCE, I_MAX_RADIUS, I_VX, I_VY, I_VZ, I_E_ERR, I_DT_MIN, I_NREC = 6, 7, 8, 9, 10, 11, 12, 13
+I_KE_END, I_VMAX_END, I_SEPARATED, I_DT_START = 14, 15, 16, 17
+N_INFO = 18
+
+# record columns: time, force on shot (3, full-shot equivalent), shot centre (3),
+# shot velocity (3), KE target, KE shot, W_int, W_plastic, W_hg, W_visc, E_contact, E_damp, dt
+N_REC = 19
+
+
+@jit
+def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, alpha):
+    """Velocity/position update of the window's nodes; zeroes ``f`` there.
+
+    Returns ``(KE, max speed, damping work)``.
+    """
+    ke = 0.0
+    vmax2 = 0.0
+    wd = 0.0
+    c1 = 1.0 - 0.5 * alpha * dt_avg
+    c2 = 1.0 / (1.0 + 0.5 * alpha * dt_avg)
+    for k in range(nk0, nk1 + 1):
+        hk = (k == nk0 and hold[4]) or (k == nk1 and hold[5])
+        for j in range(nj0, nj1 + 1):
+            hj = (j == nj0 and hold[2]) or (j == nj1 and hold[3])
+            base = nnx * (j + nny * k)
+            for i in range(ni0, ni1 + 1):
+                n = base + i
+                if hk or hj or (i == ni0 and hold[0]) or (i == ni1 and hold[1]):
+                    f[n, 0] = 0.0
+                    f[n, 1] = 0.0
+                    f[n, 2] = 0.0
+                    continue
+                im = dt_avg / mass[n]
+                b = bc[n]
+                s2 = 0.0
+                sm = 0.0
+                for a in range(3):
+                    vo = v[n, a]
+                    vn = (c1 * vo + im * f[n, a]) * c2
+                    if b & (1 << a):
+                        vn = 0.0
+                    v[n, a] = vn
+                    x[n, a] += dt * vn
+                    f[n, a] = 0.0
+                    s2 += vn * vn
+                    vm = 0.5 * (vo + vn)
+                    sm += vm * vm
+                ke += 0.5 * mass[n] * s2
+                wd += alpha * mass[n] * sm * dt_avg
+                if s2 > vmax2:
+                    vmax2 = s2
+    return ke, math.sqrt(vmax2), wd
+
+
+@jit
+def run_phase(
+    mode, parallel, max_steps, record_every,
+    x, v, f, mass, bc, stress, eps_p, sy_static, hg, temp, vol0, mat,
+    xs_ref, ys_ref, nnx, nny, nx, ny, win, hold,
+    shot, ctl, energy, rec, info, cand, dn,
+):
+    """Integrate until the phase ends (see module docstring). All arrays are
+    updated in place; ``info`` receives the phase summary, ``rec`` the records.
+    Returns the status code."""
+    i0, i1, j0, j1, k0, k1 = win[0], win[1], win[2], win[3], win[4], win[5]
+    ni0, ni1, nj0, nj1, nk0, nk1 = i0, i1, j0, j1, k0, k1  # node index box (inclusive)
+    dt_prev = ctl[C_DT_PREV]
+    dt_next = ctl[C_DT_NEXT]
+    time = ctl[C_TIME]
+    safety = ctl[C_SAFETY]
+    alpha = ctl[C_ALPHA]
+    rest_ke = ctl[C_REST_KE]
+    rest_v = ctl[C_REST_V]
+    e_ref = ctl[C_E_REF]
+    om_c2 = ctl[C_OMEGA_C2]
+    fscale = ctl[C_FORCE_SCALE]
+    shot_active = mode == MODE_IMPACT
+    damping = mode == MODE_RELAX
+    separated = False
+    ke_shot = 0.0
+    if shot_active:
+        ke_shot = 0.5 * shot[9] * (shot[3] ** 2 + shot[4] ** 2 + shot[5] ** 2) + 0.5 * shot[10] * (
+            shot[6] ** 2 + shot[7] ** 2 + shot[8] ** 2)
+    # starting energy of the phase (target KE from the current velocities)
+    ke0 = 0.0
+    for k in range(nk0, nk1 + 1):
+        for j in range(nj0, nj1 + 1):
+            for i in range(ni0, ni1 + 1):
+                n = i + nnx * (j + nny * k)
+                ke0 += 0.5 * mass[n] * (v[n, 0] ** 2 + v[n, 1] ** 2 + v[n, 2] ** 2)
+    e_start = ke0 + ke_shot + energy[E_INT] + energy[E_HG] + energy[E_VISC] + energy[E_CONTACT] + energy[E_DAMP]
+    info[:] = 0.0
+    info[I_T_CONTACT] = -1.0
+    info[I_T_SEPARATE] = -1.0
+    info[I_DT_MIN] = 1e30
+    info[I_DT_START] = dt_next * safety
+    nrec = 0
+    status = ST_OK
+    max_err = 0.0
+    ke = ke0
+    vmax = 0.0
+    dt = dt_next * safety
+    jx = 0.0
+    jy = 0.0
+    jz = 0.0
+    for step in range(max_steps):
+        if dt_next <= 0.0:
+            status = ST_NAN
+            break
+        om2 = 4.0 / (dt_next * dt_next) + om_c2
+        dt = safety * 2.0 / math.sqrt(om2)
+        if dt < ctl[C_DT_FLOOR]:
+            status = ST_DT_COLLAPSE
+            break
+        if dt_prev <= 0.0:
+            dt_prev = dt
+        dt_avg = 0.5 * (dt_prev + dt)
+        a_d = alpha if damping else 0.0
+        ke, vmax, wd = _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, a_d)
+        energy[E_DAMP] += wd
+        ncon = 0
+        if shot_active:
+            shot[0] += dt * shot[3]
+            shot[1] += dt * shot[4]
+            shot[2] += dt * shot[5]
+            ncon, jx, jy, jz, de, mov, mrad, dke = contact_kinematic(
+                x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0, nj1, cand, dn)
+            ke += dke
+            energy[E_CONTACT] += de
+            if ncon > 0:
+                if info[I_T_CONTACT] < 0.0:
+                    info[I_T_CONTACT] = time
+                fmag = math.sqrt(jx * jx + jy * jy + jz * jz) / dt * fscale
+                if fmag > info[I_PEAK_FORCE]:
+                    info[I_PEAK_FORCE] = fmag
+                if mov > info[I_MAX_OVERLAP]:
+                    info[I_MAX_OVERLAP] = mov
+                if mrad > info[I_MAX_RADIUS]:
+                    info[I_MAX_RADIUS] = mrad
+            app = shot[2] + shot[11]
+            if app > info[I_MAX_APPROACH]:
+                info[I_MAX_APPROACH] = app
+            ke_shot = 0.5 * shot[9] * (shot[3] ** 2 + shot[4] ** 2 + shot[5] ** 2) + 0.5 * shot[10] * (
+                shot[6] ** 2 + shot[7] ** 2 + shot[8] ** 2)
+            if ncon == 0 and info[I_T_CONTACT] >= 0.0 and shot[5] < 0.0:
+                # left the surface: record the rebound, start settling
+                separated = True
+                shot_active = False
+                damping = True
+                info[I_T_SEPARATE] = time + dt
+                info[I_VX] = shot[3]
+                info[I_VY] = shot[4]
+                info[I_VZ] = shot[5]
+        if parallel:
+            dtn, st, wi, wp, wh, wv = element_pass_parallel(
+                x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1)
+        else:
+            dtn, st, wi, wp, wh, wv = element_pass(
+                x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1)
+        time += dt
+        dt_prev = dt
+        dt_next = dtn
+        if dt < info[I_DT_MIN]:
+            info[I_DT_MIN] = dt
+        if st != ST_OK:
+            status = st
+            break
+        energy[E_INT] += wi
+        energy[E_PL] += wp
+        energy[E_HG] += wh
+        energy[E_VISC] += wv
+        # after separation the shot's rebound energy (ke_shot frozen at its
+        # value when it left) stays in the balance
+        etot = ke + ke_shot + energy[E_INT] + energy[E_HG] + energy[E_VISC] + energy[E_CONTACT] + energy[E_DAMP]
+        if not math.isfinite(etot) or not math.isfinite(dtn):
+            status = ST_NAN
+            break
+        err = etot - e_start
+        if abs(err) > max_err:
+            max_err = abs(err)
+        if e_ref > 0.0 and err > ctl[C_RUNAWAY] * e_ref:
+            status = ST_RUNAWAY
+            break
+        if record_every > 0 and (step % record_every == 0) and nrec < rec.shape[0]:
+            r = rec[nrec]
+            r[0] = time
+            r[1] = jx / dt * fscale if ncon > 0 else 0.0
+            r[2] = jy / dt * fscale if ncon > 0 else 0.0
+            r[3] = jz / dt * fscale if ncon > 0 else 0.0
+            for a in range(3):
+                r[4 + a] = shot[a]
+                r[7 + a] = shot[3 + a]
+            r[10] = ke
+            r[11] = ke_shot
+            r[12] = energy[E_INT]
+            r[13] = energy[E_PL]
+            r[14] = energy[E_HG]
+            r[15] = energy[E_VISC]
+            r[16] = energy[E_CONTACT]
+            r[17] = energy[E_DAMP]
+            r[18] = dt
+            nrec += 1
+        if damping and step % 10 == 0 and ke <= rest_ke and vmax <= rest_v:
+            info[I_STEPS] = step + 1
+            break
+        info[I_STEPS] = step + 1
+    else:
+        status = ST_MAX_STEPS
+    ctl[C_DT_PREV] = dt_prev
+    ctl[C_DT_NEXT] = dt_next
+    ctl[C_TIME] = time
+    info[I_STATUS] = status
+    info[I_E_ERR] = max_err
+    info[I_NREC] = nrec
+    info[I_KE_END] = ke
+    info[I_VMAX_END] = vmax
+    info[I_SEPARATED] = 1.0 if separated else 0.0
+    return status
+
+
+@jit
+def initial_dt(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, nnx, nny, nx, ny, win):
+    """Smallest element step of the window at the current state, without
+    changing anything (a zero-step element pass on copies would be wasteful:
+    with ``dt = 0`` and ``f`` scratch the pass leaves the state unchanged)."""
+    dtn, st, wi, wp, wh, wv = element_pass(
+        x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, 0.0, nnx, nny, nx, ny,
+        win[0], win[1], win[2], win[3], win[4], win[5])
+    return dtn, st
