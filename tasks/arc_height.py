@@ -19,7 +19,8 @@ from ._common import MM, peening_task, var
 
 @peening_task(version="1")
 def arc_height(runs: xr.Dataset, *, strip_width_m: float, strip_thickness_m: float,
-               youngs_modulus_Pa: float, gauge_span_m: float) -> xr.Dataset:
+               youngs_modulus_Pa: float, gauge_span_m: float, angle_deg: float | None = None,
+               velocity_m_s: float | None = None) -> xr.Dataset:
     """``runs``: strip REV profiles, dims (sequence, shots, layer), ``stress_xx_Pa`` and ``z_edge_m``.
 
     Returns arc_height_mm, clamp_force_N, clamp_moment_Nm with dims (sequence, shots).

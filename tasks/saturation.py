@@ -20,8 +20,11 @@ MODELS = {"paper": "eq10", "exponential_2p": "exp2", "exponential_3p": "exp3"}
 
 
 @peening_task(version="1")
-def saturation(arc: xr.Dataset, *, fit: str = "paper") -> xr.Dataset:
-    """``arc``: arc_height_mm with dims (sequence, shots). Returns intensities in mm."""
+def saturation(arc: xr.Dataset, *, fit: str = "paper", angle_deg: float | None = None,
+               velocity_m_s: float | None = None) -> xr.Dataset:
+    """``arc``: arc_height_mm with dims (sequence, shots) for the point (angle_deg, velocity_m_s).
+
+    Returns intensities in mm."""
     counts = arc.shots.values.astype(float)
     ah_m = arc.arc_height_mm.transpose("sequence", "shots").values * MM
     result = fit_sequences(counts, ah_m, MODELS[fit])
