@@ -62,7 +62,7 @@ class Model:
         self.nx, self.ny, self.nz = mesh.shape_elements
         self.cand = np.zeros(self.nnx * self.nny, dtype=np.int64)
         self.dn = np.zeros((self.nnx * self.nny, 4))
-        self.top = np.arange(self.nnx * self.nny)
+        self.area = np.ascontiguousarray(mesh.surface_tributary_area().ravel())
 
     def new_state(self) -> KernelState:
         m = self.material
@@ -142,7 +142,7 @@ class Model:
             numba.set_num_threads(threads)
         status = S.run_phase(
             mode, parallel, max_steps, record_every if record_capacity > 0 else 0,
-            s.x, s.v, s.f, self.mass, self.bc, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat, self.mat_static,
+            s.x, s.v, s.f, self.mass, self.bc, self.area, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat, self.mat_static,
             self.mesh.x, self.mesh.y, self.nnx, self.nny, self.nx, self.ny, win, hold,
             shot, ctl, s.energy, rec, info, self.cand, self.dn,
         )
