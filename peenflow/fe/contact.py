@@ -38,18 +38,24 @@ N_SHOT = 13
 
 
 @jit
-def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0, nj1, cand, dn):
+def contact_kinematic(x, v, mass, bc, area, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0, nj1, cand, dn):
     """Kinematic sphere contact on top-surface nodes ``i in [ni0, ni1], j in [nj0, nj1]``.
 
     ``cand`` (int64 scratch, >= number of surface nodes) and ``dn``
     ((len(cand), 4) float64 scratch) hold the candidates and their accumulated
     normal correction. Modifies ``x``, ``v`` (nodes) and ``shot`` in place.
 
+    ``area`` (n_surface_nodes,) m^2: reference tributary area of each top node.
+
     Returns ``(n_contact, Jx, Jy, Jz, dE_loss, max_overlap, max_radius,
-    dKE_nodes)``: the number of nodes in contact, the impulse ON THE SHOT
-    (N s), the kinetic energy lost (J), the largest overlap found before
-    correction (m), the largest lateral distance of a contact node from the
-    shot centre (m), and the change of the nodes' kinetic energy (J).
+    dKE_nodes, r2_mean)``: the number of nodes in contact, the impulse
+    ON THE SHOT (N s), the energy dissipated (J), the largest overlap found
+    before correction (m), the largest lateral distance of a contact node from
+    the shot centre (m), the change of the nodes' kinetic energy (J), and the
+    normal-impulse-weighted mean of r^2 (m^2; r the lateral distance from the
+    shot centre). For a Hertz pressure ``p ~ sqrt(1 - r^2/a^2)`` this mean is
+    ``2 a^2 / 5``, which gives a contact radius free of the node-spacing
+    quantisation of ``max_radius``.
     """
     R = shot[S_R]
     M = shot[S_M]
@@ -82,7 +88,7 @@ def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, n
             ke_nodes0 += 0.5 * mass[n] * (v[n, 0] ** 2 + v[n, 1] ** 2 + v[n, 2] ** 2)
             nc += 1
     if nc == 0:
-        return 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        return 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     jx = 0.0
     jy = 0.0
     jz = 0.0
@@ -148,6 +154,8 @@ def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, n
     mu = shot[S_MU]
     ncontact = 0
     max_rad = 0.0
+    sj = 0.0
+    sjr2 = 0.0
     cx = shot[0]
     cy = shot[1]
     cz = shot[2]
@@ -169,6 +177,9 @@ def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, n
         rad = math.sqrt(dx * dx + dy * dy)
         if rad > max_rad:
             max_rad = rad
+        jmag = math.sqrt(dn[a, 0] ** 2 + dn[a, 1] ** 2 + dn[a, 2] ** 2)
+        sj += jmag
+        sjr2 += jmag * rad * rad
         if mu <= 0.0:
             continue
         nx_ = dx / r
@@ -276,4 +287,4 @@ def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, n
     for a in range(nc):
         n = cand[a]
         ke_nodes1 += 0.5 * mass[n] * (v[n, 0] ** 2 + v[n, 1] ** 2 + v[n, 2] ** 2)
-    return ncontact, jx, jy, jz, de, max_ov, max_rad, ke_nodes1 - ke_nodes0
+    return ncontact, jx, jy, jz, de, max_ov, max_rad, ke_nodes1 - ke_nodes0, sjr2 / sj if sj > 0.0 else 0.0

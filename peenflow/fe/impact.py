@@ -126,13 +126,17 @@ class ImpactRunResult:
     shots : dict of per-shot arrays, keys ``SHOT_RECORD_FIELDS`` (times s,
       velocities m/s, restitution = -v_out,z / v_in,z, max_approach m = deepest
       point of the shot below z = 0, max_overlap m, peak_force N (full shot),
-      max_contact_radius m, energy_error = max |balance error| / impact energy).
+      max_contact_radius m (farthest node in contact; quantised by the node
+      spacing), contact_radius m (Hertz-equivalent radius sqrt(5/2 <r^2>) from
+      the normal-impulse distribution at peak force), hourglass_peak (peak hourglass energy / impact energy),
+      energy_error = max |balance error| / impact energy).
     histories : list (one per shot, if options.record) of dicts of arrays:
       time s, force (n,3) N on the shot, centre (n,3) m, velocity (n,3) m/s,
       ke_target, ke_shot, w_int, w_plastic, w_hourglass, w_viscous, e_contact,
       e_damping (J), dt s.
     energy : dict of cumulative energies (J) of the final state before relaxation.
-    hourglass_ratio : W_hourglass / W_int.
+    hourglass_ratio : W_hourglass / W_int of the final state (plastic runs);
+      see also shots["hourglass_peak"].
     energy_error : largest per-shot energy balance error / impact energy.
     final_state : KernelState (unrelaxed; resume from it).
     wall_time : s.
@@ -303,6 +307,8 @@ def run_impacts(
             row[16] = info[S.I_STEPS]
             row[17] = info[S.I_E_ERR] / e_imp
             row[19:25] = win
+            row[25] = math.sqrt(2.5 * info[S.I_R2_AT_PEAK])
+            row[26] = info[S.I_HG_PEAK] / e_imp
             records.append(row)
             if options.record:
                 r = res.records

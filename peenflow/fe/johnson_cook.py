@@ -241,3 +241,55 @@ def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt
     deps, sy = radial_return(q, eps_p, dt, theta, mat)
     f = (q - 3.0 * mu * deps) / q
     return p + f * a0, p + f * a1, p + f * a2, f * t3, f * t4, f * t5, deps, sy
+
+
+def material_point(material: "Material", path: str, strain_rate: float, total_strain: float, n_steps: int = 2000):
+    """Drive one material point with :func:`stress_update` (tests and plots).
+
+    ``path``: ``"uniaxial"`` -- axial rate ``strain_rate`` (1/s) with the
+    lateral stresses held at zero (lateral rate found by iteration each
+    increment); ``"shear"`` -- pure shear ``D_xy = strain_rate / 2``
+    (engineering shear rate ``strain_rate``), no spin.
+
+    Returns a dict of arrays (one entry per increment): ``strain`` (axial
+    strain or engineering shear), ``stress`` (sigma_xx or tau_xy, Pa),
+    ``von_mises`` (Pa), ``eps_p``, ``eps_p_rate`` (1/s).
+    """
+    mat = material.to_array()
+    dt = total_strain / strain_rate / n_steps
+    s = np.zeros(6)
+    ep = 0.0
+    sy = static_flow_stress(0.0, 1.0, mat)
+    lam, mu = mat[M_LAM], mat[M_MU]
+    out = {k: np.zeros(n_steps) for k in ("strain", "stress", "von_mises", "eps_p", "eps_p_rate")}
+    d_lat = -material.nu * strain_rate
+    for k in range(n_steps):
+        if path == "uniaxial":
+            d = [strain_rate, d_lat, d_lat, 0.0, 0.0, 0.0]
+            for _ in range(200):
+                r = stress_update(*s, *d, 0.0, 0.0, 0.0, dt, ep, sy, material.initial_temperature, mat)
+                syy = r[1]
+                if abs(syy) <= 1e-9 * max(abs(r[0]), 1.0):
+                    break
+                # elastic tangent d sigma_yy / d D_lat = 2 (lambda + mu) dt (stiffer than the
+                # elasto-plastic one, so the iteration converges monotonically)
+                d_lat -= syy / (2.0 * (lam + mu) * dt)
+                d[1] = d[2] = d_lat
+        elif path == "shear":
+            d = [0.0, 0.0, 0.0, 0.0, 0.0, 0.5 * strain_rate]
+            r = stress_update(*s, *d, 0.0, 0.0, 0.0, dt, ep, sy, material.initial_temperature, mat)
+        else:
+            raise ValueError("path must be 'uniaxial' or 'shear'")
+        s = np.array(r[:6])
+        deps = r[6]
+        if deps > 0:
+            ep += deps
+            sy = static_flow_stress(ep, 1.0, mat)
+        p = s[:3].mean()
+        dev = s[:3] - p
+        out["strain"][k] = (k + 1) * dt * strain_rate
+        out["stress"][k] = s[0] if path == "uniaxial" else s[5]
+        out["von_mises"][k] = np.sqrt(1.5 * (dev @ dev + 2 * (s[3:] @ s[3:])))
+        out["eps_p"][k] = ep
+        out["eps_p_rate"][k] = deps / dt
+    return out

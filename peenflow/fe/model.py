@@ -15,7 +15,7 @@ import numpy as np
 
 from peenflow.fe import solver as S
 from peenflow.fe.boundary import node_fixity
-from peenflow.fe.johnson_cook import Material
+from peenflow.fe.johnson_cook import M_RATE_ON, Material
 from peenflow.fe.mesh import BoxMesh
 from peenflow.fe.safety import check_status
 from peenflow.fe.state import KernelState
@@ -56,11 +56,13 @@ class Model:
         self.mass = mesh.lumped_mass(material.density)
         self.bc = node_fixity(mesh, target.lateral, target.bottom)
         self.mat = material.to_array(bulk_linear, bulk_quadratic, hourglass)
+        self.mat_static = self.mat.copy()
+        self.mat_static[M_RATE_ON] = 0.0
         self.nnx, self.nny, self.nnz = mesh.shape_nodes
         self.nx, self.ny, self.nz = mesh.shape_elements
         self.cand = np.zeros(self.nnx * self.nny, dtype=np.int64)
         self.dn = np.zeros((self.nnx * self.nny, 4))
-        self.top = np.arange(self.nnx * self.nny)
+        self.area = np.ascontiguousarray(mesh.surface_tributary_area().ravel())
 
     def new_state(self) -> KernelState:
         m = self.material
@@ -140,7 +142,7 @@ class Model:
             numba.set_num_threads(threads)
         status = S.run_phase(
             mode, parallel, max_steps, record_every if record_capacity > 0 else 0,
-            s.x, s.v, s.f, self.mass, self.bc, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat,
+            s.x, s.v, s.f, self.mass, self.bc, self.area, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat, self.mat_static,
             self.mesh.x, self.mesh.y, self.nnx, self.nny, self.nx, self.ny, win, hold,
             shot, ctl, s.energy, rec, info, self.cand, self.dn,
         )

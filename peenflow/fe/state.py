@@ -21,6 +21,8 @@ SHOT_RECORD_FIELDS = (
     "max_approach", "max_overlap", "peak_force", "max_contact_radius",
     "steps", "energy_error", "impact_energy",
     "win_i0", "win_i1", "win_j0", "win_j1", "win_k0", "win_k1",
+    "contact_radius",  # Hertz-equivalent radius sqrt(2.5 <r^2>_force) at peak force, m
+    "hourglass_peak",  # peak hourglass energy of the impact / impact energy
 )
 
 
