@@ -21,6 +21,13 @@ import numba
 
 DISABLE_JIT = os.environ.get("PEENFLOW_DISABLE_JIT", "0") == "1"
 
+if not DISABLE_JIT:
+    # Start numba's thread pool now, while the import lock serialises us: two
+    # dask threads making the first call of a kernel that contains a parallel
+    # section at the same moment crashed the interpreter (segfault) while both
+    # launched the pool.  get_num_threads() launches it.
+    numba.get_num_threads()
+
 
 def jit(fn=None, *, fastmath: bool = False, parallel: bool = False, inline: str = "never"):
     """Compile ``fn`` with peenflow's numba policy (usable bare or with options)."""
