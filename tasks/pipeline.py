@@ -150,6 +150,9 @@ def build_graph(path) -> Graph:
         measured = read_measured_profile(Path(t.measured_profile_csv)) if t.measured_profile_csv else None
         g.add(residual_profile, upstream={"runs": runs_t}, params={"measured": measured})
 
+    ex = study.execution
+    g.execution = {k: v for k, v in (("workers", ex.workers), ("threads", ex.threads_per_worker))
+                   if isinstance(v, int)}
     out_dir = Path(study.path).parent / f"{study.name}_plots"
     g.reports.append(lambda graph, store: write_plots(graph, store, out_dir))
     return g

@@ -87,6 +87,6 @@ def single_impact(velocity: xr.Dataset | None = None, *, material: dict, shot: d
     mesh, result = run_single_impact(material, shot, fidelity, speed, angle_deg, half_width_m, thickness_m,
                                      threads=ctx.threads if ctx else 1)
     ds = impact_dataset(mesh, result, angle_deg == 90.0)
-    ds.attrs.update({"velocity_m_s": speed, "angle_deg": angle_deg, "wall_s": result.wall_time,
+    ds.attrs.update({"velocity_m_s": speed, "angle_deg": angle_deg,
                      "n_elements": int(mesh.n_elements)})
     return ds

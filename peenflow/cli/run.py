@@ -44,8 +44,10 @@ def execute_and_report(args, graph, store, nodes, forced=frozenset()) -> int:
         return 0
     reporter = Reporter(quiet=args.quiet)
     reporter.line(f"study {graph.name}: {len(nodes)} points, store {store.root}")
+    workers = args.workers or graph.execution.get("workers")
+    threads = args.threads or graph.execution.get("threads")
     outcomes = execute(graph, store, nodes, forced=set(forced), scheduler=args.scheduler,
-                       workers=args.workers, threads=args.threads, reporter=reporter)
+                       workers=workers, threads=threads, reporter=reporter)
     reporter.line("")
     reporter.line(reporter.summary())
     for report in graph.reports:

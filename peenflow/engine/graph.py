@@ -95,6 +95,8 @@ class Graph:
         #: ``f(graph, store) -> list of written paths``, called after a run on what is done
         #: (reports and plots: outside the store, so not part of any key)
         self.reports: list = []
+        #: execution defaults a study may set (``workers``, ``threads``); command-line flags win
+        self.execution: dict = {}
 
     # -- building -----------------------------------------------------------
     def _register_stage(self, task: Task, stage: str | None) -> str:

@@ -93,3 +93,38 @@ def test_bad_study_gives_messages_and_computes_nothing(tmp_path):
     assert "thicknes_mm" in proc.stderr and "thickness_mm" in proc.stderr  # did you mean
     assert "Traceback" not in proc.stderr
     assert not (tmp_path / ".peenflow").exists()
+
+
+def test_killed_study_resumes_mid_stage_to_the_identical_result(micro, tmp_path):
+    """Kill the study while a REV run is part-way (checkpointed after every shot), rerun:
+    finished stages are reused and the REV run resumes from its checkpoint to exactly
+    the result of an uninterrupted run."""
+    import os
+    import signal
+    import time
+
+    study = tmp_path / "micro.toml"
+    shutil.copy(HERE / "micro.toml", study)
+    store = tmp_path / ".peenflow"
+    env = dict(os.environ, PEENFLOW_CHECKPOINT_EVERY_S="0")
+    proc = subprocess.Popen([sys.executable, "-m", "peenflow.cli", "run", str(study), "--workers", "1", "--threads", "1"],
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    t0 = time.time()
+    try:
+        while not list(store.glob("checkpoints/*/checkpoint.nc")) or not list(store.glob("results/strip_runs/*.nc")):
+            assert time.time() - t0 < 300 and proc.poll() is None, "run ended before it could be killed"
+            time.sleep(0.02)
+    finally:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    done_before = {p.name: p.read_bytes() for p in store.glob("results/*/*.nc")}
+    out = subprocess.run([sys.executable, "-m", "peenflow.cli", "run", str(study), "--threads", "1"], capture_output=True,
+                         text=True, env=env, timeout=600, check=True).stdout
+    assert "resuming from checkpoint" in out
+    for name, data in done_before.items():
+        assert next(store.glob(f"results/*/{name}")).read_bytes() == data
+    for stage in ("strip_runs", "target_runs", "residual_profile"):
+        a = peenflow.open_result(study, stage)
+        b = peenflow.open_result(micro, stage)
+        for v in a.data_vars:
+            np.testing.assert_array_equal(a[v].values, b[v].values, err_msg=f"{stage}.{v}")
