@@ -42,7 +42,7 @@ import math
 from numba import prange
 
 from peenflow._jit import jit
-from peenflow.fe.johnson_cook import M_BULK_LIN, M_BULK_QUAD, M_HG, M_LAM, M_MU, M_RHO, static_flow_stress, stress_update, thermal_factor, M_ADIABATIC, M_HEAT
+from peenflow.fe.johnson_cook import M_HG_FLOOR, M_BULK_LIN, M_BULK_QUAD, M_HG, M_LAM, M_MU, M_RHO, static_flow_stress, stress_update, thermal_factor, M_ADIABATIC, M_HEAT
 
 # local node signs (xi, eta, zeta) and the 4 hourglass base vectors
 SX = (-1.0, 1.0, 1.0, -1.0, -1.0, 1.0, 1.0, -1.0)
@@ -203,7 +203,7 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
     o4 = stress[e, 4]
     o5 = stress[e, 5]
     ep = eps_p[e]
-    n0_, n1_, n2_, n3_, n4_, n5_, deps, sy = stress_update(
+    n0_, n1_, n2_, n3_, n4_, n5_, deps, sy, gr = stress_update(
         o0, o1, o2, o3, o4, o5, lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy, dt, ep, sy_static[e], temp[e], mat
     )
     stress[e, 0] = n0_
@@ -298,7 +298,12 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
     q4y = h4y - 8.0 * (w41 * v1y + w42 * v2y + w43 * v3y)
     q4z = h4z - 8.0 * (w41 * v1z + w42 * v2z + w43 * v3z)
     gsum = d1x * d1x + d1y * d1y + d1z * d1z + d2x * d2x + d2y * d2y + d2z * d2z + d3x * d3x + d3y * d3y + d3z * d3z
-    khg = qhg * mod * vol * gsum / 24.0 * dt
+    # hourglass stiffness follows the element's deviatoric tangent: full when
+    # elastic, reduced (not below M_HG_FLOOR) in a yielding element, whose
+    # elastic hourglass stiffness would otherwise stiffen the dent
+    if gr < mat[M_HG_FLOOR]:
+        gr = mat[M_HG_FLOOR]
+    khg = qhg * mod * vol * gsum / 24.0 * dt * gr
     o = hg[e]
     f1x = o[0] + khg * q1x
     f1y = o[1] + khg * q1y

@@ -52,6 +52,9 @@ class Options:
     dt_safety : fraction of the stable step (recomputed every step).
     friction : Coulomb coefficient shot/target (paper: 0.2).
     hourglass : Flanagan-Belytschko stiffness coefficient Q_hg.
+    hourglass_plastic_floor : lowest factor on the hourglass stiffness of a
+      yielding element (the factor is the element's actual/elastic deviatoric
+      stress increment; 1 = plain elastic hourglass stiffness).
     bulk_linear, bulk_quadratic : bulk-viscosity coefficients.
     window : integrate only an active window around each impact.
     window_lateral, window_depth : window half width / depth in estimated contact radii.
@@ -70,6 +73,7 @@ class Options:
     dt_safety: float = 0.9
     friction: float = 0.2
     hourglass: float = 0.05
+    hourglass_plastic_floor: float = 0.1
     bulk_linear: float = 0.06
     bulk_quadratic: float = 1.5
     window: bool = True
@@ -218,7 +222,8 @@ def run_impacts(
         runaway energy, or a phase that never settles.
     """
     t_wall = _time.perf_counter()
-    model = Model(target, material, hourglass=options.hourglass, bulk_linear=options.bulk_linear,
+    model = Model(target, material, hourglass=options.hourglass,
+                  hourglass_plastic_floor=options.hourglass_plastic_floor, bulk_linear=options.bulk_linear,
                   bulk_quadratic=options.bulk_quadratic)
     if state is None:
         st = model.new_state()

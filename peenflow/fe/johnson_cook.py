@@ -48,8 +48,8 @@ from peenflow._jit import jit
 # indices into the material vector
 M_LAM, M_MU, M_RHO, M_A, M_B, M_N, M_C, M_RATE0, M_M = 0, 1, 2, 3, 4, 5, 6, 7, 8
 M_TROOM, M_TMELT, M_HEAT, M_RATE_ON, M_THERMAL_ON, M_ADIABATIC = 9, 10, 11, 12, 13, 14
-M_BULK_LIN, M_BULK_QUAD, M_HG = 15, 16, 17
-N_MAT = 18
+M_BULK_LIN, M_BULK_QUAD, M_HG, M_HG_FLOOR = 15, 16, 17, 18
+N_MAT = 19
 
 
 @dataclass(frozen=True)
@@ -104,7 +104,8 @@ class Material:
     def thermal_on(self) -> bool:
         return self.m > 0 and (self.adiabatic or self.initial_temperature > self.T_room)
 
-    def to_array(self, bulk_linear: float = 0.06, bulk_quadratic: float = 1.5, hourglass: float = 0.05) -> np.ndarray:
+    def to_array(self, bulk_linear: float = 0.06, bulk_quadratic: float = 1.5, hourglass: float = 0.05,
+                 hourglass_plastic_floor: float = 0.1) -> np.ndarray:
         """The float64 material vector the numba kernels read (see ``M_*``)."""
         a = np.zeros(N_MAT)
         a[M_LAM], a[M_MU], a[M_RHO] = self.lam, self.mu, self.density
@@ -115,6 +116,7 @@ class Material:
         a[M_THERMAL_ON] = 1.0 if self.thermal_on else 0.0
         a[M_ADIABATIC] = 1.0 if (self.adiabatic and self.m > 0) else 0.0
         a[M_BULK_LIN], a[M_BULK_QUAD], a[M_HG] = bulk_linear, bulk_quadratic, hourglass
+        a[M_HG_FLOOR] = hourglass_plastic_floor
         return a
 
     def flow_stress(self, eps_p, rate=0.0, T=None):
@@ -204,7 +206,10 @@ def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt
     Stress ``s`` (Pa) and rate of deformation ``d`` (1/s, tensor components,
     NOT engineering shear) in Voigt order xx yy zz yz xz xy; spin
     ``w = (W_yz, W_xz, W_xy)`` (1/s, W = (L - L^T)/2). Returns the new stress
-    (6 values), ``d_eps_p`` and the flow stress (Pa; the static one if elastic).
+    (6 values), ``d_eps_p``, the flow stress (Pa; the static one if elastic)
+    and ``g_ratio``: the ratio of the actual to the elastic-trial deviatoric
+    stress increment of the step (1 when elastic, ~E_t/E in steady plastic
+    flow), used to soften the hourglass stiffness of yielding elements.
     """
     lam = mat[M_LAM]
     mu = mat[M_MU]
@@ -236,11 +241,32 @@ def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt
     a2 = t2 - p
     q = math.sqrt(1.5 * (a0 * a0 + a1 * a1 + a2 * a2 + 2.0 * (t3 * t3 + t4 * t4 + t5 * t5)))
     if q <= sy_static or dt <= 0.0:
-        return t0, t1, t2, t3, t4, t5, 0.0, sy_static
+        return t0, t1, t2, t3, t4, t5, 0.0, sy_static, 1.0
     theta = thermal_factor(temp, mat)
     deps, sy = radial_return(q, eps_p, dt, theta, mat)
     f = (q - 3.0 * mu * deps) / q
-    return p + f * a0, p + f * a1, p + f * a2, f * t3, f * t4, f * t5, deps, sy
+    # deviatoric increments: elastic trial (2 mu D' dt) vs actual (f a - s_old')
+    trd = (d0 + d1 + d2) / 3.0
+    e0 = mu2 * (d0 - trd)
+    e1 = mu2 * (d1 - trd)
+    e2 = mu2 * (d2 - trd)
+    e3 = mu2 * d3
+    e4 = mu2 * d4
+    e5 = mu2 * d5
+    den = e0 * e0 + e1 * e1 + e2 * e2 + 2.0 * (e3 * e3 + e4 * e4 + e5 * e5)
+    g_ratio = 1.0
+    if den > 0.0:
+        # old (rotated) deviator = trial deviator - elastic deviatoric increment
+        u0 = (f - 1.0) * a0 + e0
+        u1 = (f - 1.0) * a1 + e1
+        u2 = (f - 1.0) * a2 + e2
+        u3 = (f - 1.0) * t3 + e3
+        u4 = (f - 1.0) * t4 + e4
+        u5 = (f - 1.0) * t5 + e5
+        g_ratio = math.sqrt((u0 * u0 + u1 * u1 + u2 * u2 + 2.0 * (u3 * u3 + u4 * u4 + u5 * u5)) / den)
+        if g_ratio > 1.0:
+            g_ratio = 1.0
+    return p + f * a0, p + f * a1, p + f * a2, f * t3, f * t4, f * t5, deps, sy, g_ratio
 
 
 def material_point(material: "Material", path: str, strain_rate: float, total_strain: float, n_steps: int = 2000):

@@ -45,7 +45,8 @@ class PhaseResult:
 class Model:
     """Static arrays of a run (built once; not part of the checkpointed state)."""
 
-    def __init__(self, target: Target, material: Material, *, hourglass=0.05, bulk_linear=0.06, bulk_quadratic=1.5):
+    def __init__(self, target: Target, material: Material, *, hourglass=0.05, hourglass_plastic_floor=0.1,
+                 bulk_linear=0.06, bulk_quadratic=1.5):
         mesh = target.mesh
         self.target = target
         self.mesh = mesh
@@ -55,7 +56,7 @@ class Model:
         self.vol0 = mesh.element_volumes()
         self.mass = mesh.lumped_mass(material.density)
         self.bc = node_fixity(mesh, target.lateral, target.bottom)
-        self.mat = material.to_array(bulk_linear, bulk_quadratic, hourglass)
+        self.mat = material.to_array(bulk_linear, bulk_quadratic, hourglass, hourglass_plastic_floor)
         self.mat_static = self.mat.copy()
         self.mat_static[M_RATE_ON] = 0.0
         self.nnx, self.nny, self.nnz = mesh.shape_nodes

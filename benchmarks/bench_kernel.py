@@ -1,0 +1,212 @@
+"""Speed and window-error figures of the numba FE/DEM kernel (prints them; not a test).
+
+Usage (from the repository root)::
+
+    PYTHONPATH=. python benchmarks/bench_kernel.py throughput   # element-updates/s, 1 and 2 threads
+    PYTHONPATH=. python benchmarks/bench_kernel.py rev          # one impact on the strip REV, window vs full
+    PYTHONPATH=. python benchmarks/bench_kernel.py hertz        # Hertz convergence table (quarter model)
+    PYTHONPATH=. python benchmarks/bench_kernel.py plastic      # plastic dents at 25/55 m/s, refinement, rate on/off
+
+JIT compilation is excluded (each kernel is warmed up on a tiny case first).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+import numba
+import numpy as np
+
+from peenflow.fe.element import element_pass, element_pass_parallel
+from peenflow.fe.impact import Options, run_impacts
+from peenflow.fe.johnson_cook import Material
+from peenflow.fe.mesh import BoxMesh, graded_axis
+from peenflow.fe.model import Target
+from peenflow.fe.shots import Shots, hertz, johnson_plastic
+
+R = 0.29e-3
+SAE1070 = dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0134, m=0.0)
+
+
+def loadavg() -> str:
+    with open("/proc/loadavg") as f:
+        return f.read().split()[0]
+
+
+def _pass_arrays(mesh, plastic):
+    X = mesh.node_coordinates()
+    n, ne = mesh.n_nodes, mesh.n_elements
+    mat = Material(**SAE1070)
+    G = np.array([[1.0, 0.2, 0.0], [0.0, -0.5, 0.1], [0.3, 0.0, -0.5]]) * (1e5 if plastic else 1e2)
+    v = X @ G.T
+    sy = np.full(ne, 1e3 if plastic else 1e12)  # plastic: every element yields every step
+    return dict(x=X, v=v, f=np.zeros((n, 3)), stress=np.zeros((ne, 6)), eps_p=np.zeros(ne) + 0.1, sy=sy,
+                hg=np.zeros((ne, 12)), temp=np.full(ne, 293.0), vol0=mesh.element_volumes(), mat=mat.to_array())
+
+
+def element_rate(shape, threads, plastic, reps=None):
+    nx, ny, nz = shape
+    h = 25e-6
+    mesh = BoxMesh(np.arange(nx + 1) * h, np.arange(ny + 1) * h, np.arange(nz + 1) * h)
+    a = _pass_arrays(mesh, plastic)
+    nnx, nny, _ = mesh.shape_nodes
+    fn = element_pass_parallel if threads > 1 else element_pass
+    if threads > 1:
+        numba.set_num_threads(threads)
+    args = lambda: (a["x"], a["v"], a["f"], a["stress"], a["eps_p"], a["sy"], a["hg"], a["temp"], a["vol0"],
+                    a["mat"], 4e-9, nnx, nny, nx, ny, 0, nx, 0, ny, 0, nz)
+    fn(*args())  # warm-up (compiled already by the tiny call in main)
+    reps = reps or max(3, int(2e7 / mesh.n_elements))
+    t = time.perf_counter()
+    for _ in range(reps):
+        fn(*args())
+    dt = time.perf_counter() - t
+    return reps * mesh.n_elements / dt / 1e6
+
+
+def throughput():
+    print(f"# element-updates/s (M/s), element pass only, float64; loadavg at start {loadavg()}, "
+          f"{os.cpu_count()} cores")
+    element_rate((4, 4, 4), 1, False, 2)
+    element_rate((4, 4, 4), 2, False, 2)
+    print("| mesh | elements | threads | elastic M/s | plastic M/s |")
+    print("|---|---|---|---|---|")
+    for shape in ((20, 20, 20), (60, 60, 60), (120, 120, 40)):
+        for th in (1, 2):
+            e = element_rate(shape, th, False)
+            p = element_rate(shape, th, True)
+            print(f"| {shape[0]}x{shape[1]}x{shape[2]} | {np.prod(shape)} | {th} | {e:.2f} | {p:.2f} |", flush=True)
+    print(f"# loadavg at end {loadavg()}")
+
+
+def rev_mesh(h=25e-6, fine_depth=0.3e-3):
+    """Strip REV 6D x 6D x h_strip = 3.48 x 3.48 x 1.29 mm, uniform h laterally, graded (1.2) below fine_depth."""
+    half = 1.74e-3
+    lat = np.linspace(-half, half, int(round(2 * half / h)) + 1)
+    z = graded_axis(fine_depth, h, 1.29e-3, 1.2)
+    return BoxMesh(lat, lat.copy(), z)
+
+
+def profile(res, mesh, half=0.58e-3):
+    """sigma_xx averaged over the central 2D x 2D measuring region, per element layer (Pa)."""
+    c = mesh.element_centroids()
+    sel = (np.abs(c[:, 0]) <= half) & (np.abs(c[:, 1]) <= half)
+    zs = np.unique(c[:, 2])
+    return zs, np.array([res.stress[sel & (c[:, 2] == z), 0].mean() for z in zs])
+
+
+def rev(windows=((4.0, 4.0), (3.0, 3.0), (6.0, 6.0)), full=True, speed=55.0, n_shots=1):
+    mesh = rev_mesh()
+    t = Target(mesh)
+    mat = Material(**SAE1070)
+    rng = np.random.default_rng(0)
+    if n_shots == 1:
+        c = [[0.0, 0.0, -R - 1e-6]]
+    else:
+        c = np.column_stack([rng.uniform(-0.3e-3, 0.3e-3, n_shots), rng.uniform(-0.3e-3, 0.3e-3, n_shots),
+                             np.full(n_shots, -R - 1e-6)])
+    shots = Shots(centres=c, velocities=[[0.0, 0.0, speed]] * n_shots, radius=R, density=7800.0)
+    nnx, nny, _ = mesh.shape_nodes
+    print(f"# strip REV {mesh.shape_elements} = {mesh.n_elements} elements, {n_shots} shot(s) at {speed} m/s; "
+          f"loadavg {loadavg()}")
+    # warm-up compile on a tiny case
+    run_impacts(Target(BoxMesh(*(np.linspace(-2e-4, 2e-4, 9),) * 2, np.linspace(0, 2e-4, 5))), mat,
+                Shots(centres=[[0, 0, -R - 1e-6]], velocities=[[0, 0, 10.0]], radius=R, density=7800.0), Options())
+    results = {}
+    cases = ([("full", Options(window=False))] if full else []) + [
+        (f"window {w[0]:g}x{w[1]:g}", Options(window_lateral=w[0], window_depth=w[1])) for w in windows]
+    for name, opt in cases:
+        t0 = time.perf_counter()
+        res = run_impacts(t, mat, shots, opt)
+        wall = time.perf_counter() - t0
+        # split: impact phases vs final relaxation
+        t1 = time.perf_counter()
+        from peenflow.fe.model import Model
+        from peenflow.fe.relaxation import relax
+        m = Model(t, mat)
+        e_ref = 0.5 * shots.mass * speed**2
+        _, rr = relax(m, res.final_state, opt, e_ref, speed)
+        t_relax = time.perf_counter() - t1
+        uz = res.displacement[: nnx * nny, 2]
+        zs, p = profile(res, mesh)
+        results[name] = (uz.max(), p, res.shots["restitution"].mean())
+        win = res.shots
+        print(f"{name}: wall {wall:.1f} s (of which final relaxation ~{t_relax:.1f} s, {int(rr.info[1])} steps), "
+              f"impact steps {win['steps'].sum():.0f}, window elements "
+              f"{int(((win['win_i1']-win['win_i0'])*(win['win_j1']-win['win_j0'])*(win['win_k1']-win['win_k0'])).mean())}, "
+              f"dent {uz.max()*1e6:.3f} um, restitution {res.shots['restitution'].mean():.4f}, "
+              f"E err {res.energy_error:.4f}, hourglass {res.hourglass_ratio:.3f}", flush=True)
+    if full:
+        d0, p0, e0 = results["full"]
+        print("| window (x contact radius) | dent error | restitution error | profile error (max abs / max abs full) |")
+        print("|---|---|---|---|")
+        for name, (d, p, e) in results.items():
+            if name == "full":
+                continue
+            print(f"| {name} | {100*(d/d0-1):+.2f} % | {100*(e/e0-1):+.2f} % | "
+                  f"{100*np.abs(p-p0).max()/np.abs(p0).max():.2f} % |")
+        print("# full-mesh averaged sigma_xx profile (MPa) by depth (um):")
+        print(" ".join(f"{z*1e6:.0f}:{s/1e6:.0f}" for z, s in zip(zs[:16], p0[:16])))
+
+
+def hertz_table(speeds=(55.0, 1.0), resolutions=(4, 6, 8)):
+    mat = Material(E=205e9, nu=0.29, density=7800.0, A=1e13)
+    print(f"# Hertz, quarter model, frictionless, extent 25 a; loadavg {loadavg()}")
+    print("| v m/s | a/h | elements | approach err | force err | radius err | duration err | restitution | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for v in speeds:
+        for n in resolutions:
+            shots = Shots(centres=[[0, 0, -R - 1e-9]], velocities=[[0, 0, v]], radius=R, density=7800.0)
+            ref = hertz(R, shots.mass, v, mat.E, mat.nu)
+            a = ref["a"]
+            ax = graded_axis(2 * a, a / n, 25 * a, 1.2)
+            mesh = BoxMesh(ax, ax.copy(), graded_axis(1.5 * a, a / n, 25 * a, 1.2))
+            t0 = time.perf_counter()
+            res = run_impacts(Target(mesh), mat, shots, Options(window=False, friction=0.0))
+            s = res.shots
+            err = lambda got, k: 100 * (got / ref[k] - 1)
+            print(f"| {v:g} | {n} | {mesh.n_elements} | {err(s['max_approach'][0], 'delta'):+.2f} % | "
+                  f"{err(s['peak_force'][0], 'F'):+.2f} % | {err(s['contact_radius'][0], 'a'):+.2f} % | "
+                  f"{err(s['contact_duration'][0], 't'):+.2f} % | {s['restitution'][0]:.4f} | "
+                  f"{time.perf_counter()-t0:.1f} |", flush=True)
+
+
+def plastic_table():
+    print(f"# S230 on SAE 1070, single normal impact, box 1.2 x 1.2 x 0.6 mm; loadavg {loadavg()}")
+    m = 7800.0 * 4 / 3 * np.pi * R**3
+    for v in (25.0, 55.0):
+        j = johnson_plastic(R, m, v, 3 * SAE1070["A"])
+        print(f"# Johnson fully plastic at {v} m/s: depth {j['delta']*1e6:.1f} um, diameter {2*j['a']*1e3:.3f} mm")
+    print("| v m/s | rate term | h um | dent depth um | dent diameter mm | max approach um | restitution | "
+          "peak force N | hourglass | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for v in (25.0, 55.0):
+        for rate in (True, False):
+            for h in (25e-6, 12.5e-6):
+                if h < 20e-6 and not rate:
+                    continue
+                from peenflow.fe.mesh import graded_box
+                mesh = graded_box(0.6e-3, 0.6e-3, h, fine_half_width=0.15e-3, fine_depth=0.1e-3)
+                mat = Material(**{**SAE1070, "C": SAE1070["C"] if rate else 0.0})
+                shots = Shots(centres=[[0, 0, -R - 1e-6]], velocities=[[0, 0, v]], radius=R, density=7800.0)
+                t0 = time.perf_counter()
+                res = run_impacts(Target(mesh), mat, shots, Options())
+                nnx, nny, _ = mesh.shape_nodes
+                uz = res.displacement[: nnx * nny, 2]
+                X = res.nodes[: nnx * nny]
+                # dent diameter: where the residual surface profile along x crosses zero (pile-up starts)
+                row = np.abs(X[:, 1]) < 1e-12
+                xs, us = X[row, 0], uz[row]
+                inside = xs[(us > 0)]
+                diam = inside.max() - inside.min() if len(inside) else 0.0
+                s = res.shots
+                print(f"| {v:g} | {'on' if rate else 'off'} | {h*1e6:g} | {uz.max()*1e6:.2f} | {diam*1e3:.3f} | "
+                      f"{s['max_approach'][0]*1e6:.2f} | {s['restitution'][0]:.3f} | {s['peak_force'][0]:.0f} | "
+                      f"{res.hourglass_ratio:.3f} | {time.perf_counter()-t0:.1f} |", flush=True)
+
+
+if __name__ == "__main__":
+    what = sys.argv[1] if len(sys.argv) > 1 else "throughput"
+    {"throughput": throughput, "rev": rev, "hertz": hertz_table, "plastic": plastic_table}[what]()
