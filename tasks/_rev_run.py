@@ -39,7 +39,7 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
     stream = shot_stream(ladder[-1], shot["radius_m"], half, half, angle_deg, velocity_m_s, seed)
     target = K.target(mesh, fidelity)
     material_k = K.kernel_material(material)
-    options = K.kernel_options(fidelity, shot, material_k, velocity_m_s, angle_deg, ctx.threads if ctx else 1)
+    options = K.kernel_options(fidelity, shot, ctx.threads if ctx else 1)
     nz = len(z_edges) - 1
 
     means: dict[int, np.ndarray] = {}

@@ -55,7 +55,7 @@ def material_params(m) -> dict:
 def fidelity_params(f) -> dict:
     return {
         "element_size_m": f.element_size_m, "fine_depth_m": f.fine_depth_m, "grading_ratio": f.grading_ratio,
-        "time_step_safety": f.time_step_safety, "window_size_D": f.window_size_D,
+        "time_step_safety": f.time_step_safety, "window_contact_radii": f.window_contact_radii,
         "settle_tolerance": f.settle_tolerance, "relaxation_tolerance": f.relaxation_tolerance,
         "lateral_boundary": f.lateral_boundary,
     }

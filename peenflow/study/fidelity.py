@@ -32,9 +32,9 @@ PRESETS: dict[str, dict[str, object]] = {
         "fine_depth_D": 0.75,
         "grading_ratio": 1.2,
         "time_step_safety": 0.9,
-        "window_size_D": 3.0,
-        "settle_tolerance": 1e-2,
-        "relaxation_tolerance": 1e-3,
+        "window_contact_radii": 3.0,
+        "settle_tolerance": 1e-4,
+        "relaxation_tolerance": 1e-6,
         "contact_stiffness_factor": 1.0,
         "precision": "float64",
         "lateral_boundary": "symmetric",
@@ -44,9 +44,9 @@ PRESETS: dict[str, dict[str, object]] = {
         "fine_depth_D": 1.0,
         "grading_ratio": 1.15,
         "time_step_safety": 0.8,
-        "window_size_D": 4.0,
-        "settle_tolerance": 1e-3,
-        "relaxation_tolerance": 1e-4,
+        "window_contact_radii": 4.0,
+        "settle_tolerance": 1e-6,
+        "relaxation_tolerance": 1e-8,
         "contact_stiffness_factor": 1.0,
         "precision": "float64",
         "lateral_boundary": "symmetric",
@@ -56,9 +56,9 @@ PRESETS: dict[str, dict[str, object]] = {
         "fine_depth_D": 1.0,
         "grading_ratio": 1.1,
         "time_step_safety": 0.8,
-        "window_size_D": 0.0,
-        "settle_tolerance": 1e-3,
-        "relaxation_tolerance": 1e-5,
+        "window_contact_radii": 6.0,
+        "settle_tolerance": 1e-6,
+        "relaxation_tolerance": 1e-9,
         "contact_stiffness_factor": 1.0,
         "precision": "float64",
         "lateral_boundary": "symmetric",
@@ -100,8 +100,9 @@ class Fidelity(ShotScaled):
     fine_depth_mm: Optional[Positive] = Field(None, description="depth of the uniform fine zone in mm")
     grading_ratio: GradingRatio = Field(description="size ratio of neighbouring elements outside the fine zone, in [1, 1.2]")
     time_step_safety: SafetyFactor = Field(description="stable time step multiplier in (0, 1]")
-    window_size_D: NonNegative = Field(
-        description="side of the active window around an impact in shot diameters (0 = whole REV every step)"
+    window_contact_radii: NonNegative = Field(
+        description="half width and depth of the active window around an impact, in estimated contact "
+                    "radii (0 = whole REV every step)"
     )
     settle_tolerance: OpenFraction = Field(
         description="target kinetic energy, as a fraction of one shot's, below which the next shot may arrive"
@@ -119,9 +120,10 @@ class Fidelity(ShotScaled):
     def _one_depth(self) -> "Fidelity":
         if (self.fine_depth_D is None) == (self.fine_depth_mm is None):
             raise ValueError("give exactly one of fine_depth_D and fine_depth_mm")
-        if self.window_size_D != 0.0 and self.window_size_D < 1.0:
+        if self.window_contact_radii != 0.0 and self.window_contact_radii < 2.0:
             raise ValueError(
-                f"window_size_D = {self.window_size_D!r}: expected 0 (no window) or a window of at least 1 shot diameter"
+                f"window_contact_radii = {self.window_contact_radii!r}: expected 0 (no window) or at least 2 "
+                "contact radii (a smaller window cuts into the plastic zone)"
             )
         return self
 
