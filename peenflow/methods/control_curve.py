@@ -28,11 +28,8 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 from scipy.optimize import brentq
 
+from ._arrays import read_only as _ro
 
-def _ro(a):
-    a = np.array(a, dtype=float)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality

@@ -40,6 +40,8 @@ from scipy.optimize import least_squares
 
 from .indentation import DentEllipse
 
+from ._arrays import read_only as _ro
+
 #: visible coverage regarded as full (100 %) coverage (SAE J2277)
 FULL_COVERAGE_PERCENT = 98.0
 
@@ -200,7 +202,3 @@ def fit_avrami(counts, coverage) -> AvramiFit:
     return AvramiFit(rate, float(np.sqrt(np.mean(r**2))), _ro(nn), _ro(cc))
 
 
-def _ro(a):
-    a = np.array(a, dtype=float)
-    a.setflags(write=False)
-    return a

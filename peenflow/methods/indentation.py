@@ -37,6 +37,8 @@ import numpy as np
 from scipy.interpolate import RectBivariateSpline, RegularGridInterpolator
 from scipy.optimize import minimize
 
+from ._arrays import read_only as _ro
+
 
 @dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class DentEllipse:
@@ -74,11 +76,6 @@ class DentEllipse:
         """π a b, m²."""
         return float(np.pi * self.semi_axis_along * self.semi_axis_across)
 
-
-def _ro(a):
-    a = np.array(a, dtype=float)
-    a.setflags(write=False)
-    return a
 
 
 def dent_ellipse(

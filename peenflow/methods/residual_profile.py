@@ -27,13 +27,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._arrays import read_only as _frozen
+
 VOIGT = ("xx", "yy", "zz", "yz", "xz", "xy")
 
-
-def _frozen(a, dtype=float) -> np.ndarray:
-    arr = np.array(a, dtype=dtype, copy=True)
-    arr.setflags(write=False)
-    return arr
 
 
 @dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality

@@ -34,6 +34,8 @@ from typing import Mapping
 import numpy as np
 from scipy.optimize import brentq, least_squares
 
+from ._arrays import read_only as _ro
+
 #: the 10 % rule of eq. (11) and SAE J443/J2597
 GROWTH_RATIO = 1.1
 
@@ -255,11 +257,6 @@ def fit_saturation(counts, arc_heights, model: str = "eq10") -> SaturationFit:
     object.__setattr__(fit, "intensity", float(fit.arc_height(nsat)))
     return fit
 
-
-def _ro(a):
-    a = np.array(a, dtype=float)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality

@@ -56,11 +56,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ._arrays import read_only as _ro
 
-def _ro(a, dtype=float):
-    a = np.array(a, dtype=dtype, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 def impingement_direction(angle_deg: float) -> np.ndarray:
