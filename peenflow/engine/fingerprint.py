@@ -42,14 +42,15 @@ def source_fingerprint(source: str) -> str:
     return digest(ast.dump(tree, annotate_fields=True, include_attributes=False))
 
 
+# Fingerprints are cached per file for the life of the process: a long run
+# must record the code it has loaded, not an edit made on disk while it runs.
 @functools.lru_cache(maxsize=None)
-def _file_fingerprint(path: str, mtime_ns: int, size: int) -> str:
+def _file_fingerprint(path: str) -> str:
     return source_fingerprint(Path(path).read_text(encoding="utf-8"))
 
 
 def file_fingerprint(path: Path) -> str:
-    st = path.stat()
-    return _file_fingerprint(str(path), st.st_mtime_ns, st.st_size)
+    return _file_fingerprint(str(path))
 
 
 def module_fingerprint(module_name: str) -> str:
@@ -85,7 +86,7 @@ def _is_task_def(node: ast.AST) -> bool:
 
 
 @functools.lru_cache(maxsize=None)
-def _task_fingerprint(path: str, mtime_ns: int, size: int, fn_name: str) -> str:
+def _task_fingerprint(path: str, fn_name: str) -> str:
     tree = _strip_docstrings(ast.parse(Path(path).read_text(encoding="utf-8")))
     # Other tasks of the same module are their own business; helpers, constants
     # and imports count for every task of the module.
@@ -97,7 +98,5 @@ def function_fingerprint(fn) -> str:
     """Fingerprint of the module defining task function ``fn``, minus its other tasks."""
     module = inspect.getmodule(fn)
     if module is not None and getattr(module, "__file__", None):
-        path = Path(module.__file__)
-        st = path.stat()
-        return _task_fingerprint(str(path), st.st_mtime_ns, st.st_size, fn.__name__)
+        return _task_fingerprint(str(Path(module.__file__)), fn.__name__)
     return source_fingerprint(inspect.getsource(fn))
