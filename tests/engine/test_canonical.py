@@ -1,4 +1,5 @@
 import numpy as np
+import numpy as np
 import pytest
 
 from peenflow.engine.canonical import ParameterError, canonical_json
@@ -23,3 +24,15 @@ def test_nan_and_inf_are_spelled_out():
 def test_objects_are_rejected_with_their_path():
     with pytest.raises(ParameterError, match=r"params.mesh.spacing"):
         canonical_json({"mesh": {"spacing": object()}})
+
+
+def test_sweep_points_with_ragged_dims_combine_with_padding():
+    import xarray as xr
+
+    from peenflow.engine.combine import combine_points
+
+    a = xr.Dataset({"d": ("run", [1.0, 2.0, 3.0])})
+    b = xr.Dataset({"d": ("run", [4.0, 5.0])})
+    c = combine_points([a, b], [{"angle": 45}, {"angle": 90}], ["angle"])
+    assert c.d.shape == (2, 3)
+    assert c.d.sel(angle=90).values[:2].tolist() == [4.0, 5.0] and np.isnan(c.d.sel(angle=90).values[2])
