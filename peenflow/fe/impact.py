@@ -62,6 +62,9 @@ class Options:
     rest_ke_fraction, rest_v_fraction : "at rest" after an impact (x impact energy / speed).
     relax_damping, relax_ke_fraction, relax_v_fraction : same for global relaxations.
     lead_steps : the shot starts this many stable steps before touching.
+    final_relaxation : relax the whole mesh after the last shot (False: the
+      result fields are the unrelaxed final state; for timing and callers
+      that relax themselves).
     threads : numba threads for the element loop (1 = serial kernel).
     precision : "float64" (only option implemented).
     record : keep per-step histories (contact force, shot trajectory, energies).
@@ -86,6 +89,7 @@ class Options:
     relax_ke_fraction: float = 1e-8
     relax_v_fraction: float = 1e-5
     lead_steps: int = 2
+    final_relaxation: bool = True
     threads: int = 1
     precision: str = "float64"
     record: bool = False
@@ -330,7 +334,10 @@ def run_impacts(
         if on_shot_done is not None:
             on_shot_done(i, exporter)
     final = st.with_records(np.array(records).reshape(-1, len(SHOT_RECORD_FIELDS)))
-    rs, _ = relax(model, final, options, e_ref, v_ref, where="final relaxation")
+    if options.final_relaxation:
+        rs, _ = relax(model, final, options, e_ref, v_ref, where="final relaxation")
+    else:
+        rs = final
     rec = final.shot_records
     shot_dict = {name: rec[:, k].copy() for k, name in enumerate(SHOT_RECORD_FIELDS)}
     en = final.energy
