@@ -29,10 +29,19 @@ Per element and step (central difference, forces at ``t_{n+1}``):
    ``l = V / A_max`` (largest face), ``c`` the dilatational speed at the
    current density and ``Q`` the bulk-viscosity term; ``dt_e = 2 / omega``.
 
-Elements are visited in 8 colours (parity of ``i, j, k``): elements of one
-colour share no node, so the scatter of nodal forces is race-free under
-``prange`` and the summation order is the same for any thread count
-(bit-identical stresses on 1 and 2 threads).
+Two implementations of the same element (they agree to round-off, see
+tests/fe/test_element.py):
+
+* :func:`element_rows` (used by the solver): rows of elements along ``i``,
+  processed in blocks of ``BLOCK`` elements with structure-of-arrays scratch;
+  the plastic return and the nodal scatter in separate scalar loops. Rows are
+  coloured by the parity of ``(j, k)`` (4 colours): rows of one colour share
+  no node, so the scatter is race-free under ``prange`` and, each row being
+  done in ``i`` order by one thread, the summation order is the same for any
+  thread count (bit-identical results on 1 and 2 threads). ~1.5x faster than
+  the per-element version on one thread (BENCHMARKS.md).
+* :func:`element_pass`: one element at a time in 8 colours (parity of
+  ``i, j, k``); the reference implementation.
 """
 
 from __future__ import annotations

@@ -46,7 +46,7 @@ import numpy as np
 
 from peenflow._jit import jit
 from peenflow.fe.contact import contact_kinematic
-from peenflow.fe.element import element_pass, element_pass_parallel
+from peenflow.fe.element import element_rows, element_rows_parallel
 
 MODE_IMPACT = 0
 MODE_RELAX = 1
@@ -228,10 +228,10 @@ def run_phase(
                 info[I_VZ] = shot[5]
         mat = mat_static if damping else mat_dyn
         if parallel:
-            dtn, st, wi, wp, wh, wv = element_pass_parallel(
+            dtn, st, wi, wp, wh, wv = element_rows_parallel(
                 x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1)
         else:
-            dtn, st, wi, wp, wh, wv = element_pass(
+            dtn, st, wi, wp, wh, wv = element_rows(
                 x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1)
         time += dt
         dt_prev = dt
@@ -301,7 +301,7 @@ def initial_dt(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, nnx, nny,
     """Smallest element step of the window at the current state, without
     changing anything (a zero-step element pass on copies would be wasteful:
     with ``dt = 0`` and ``f`` scratch the pass leaves the state unchanged)."""
-    dtn, st, wi, wp, wh, wv = element_pass(
+    dtn, st, wi, wp, wh, wv = element_rows(
         x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, 0.0, nnx, nny, nx, ny,
         win[0], win[1], win[2], win[3], win[4], win[5])
     return dtn, st
