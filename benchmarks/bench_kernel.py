@@ -19,7 +19,7 @@ import time
 import numba
 import numpy as np
 
-from peenflow.fe.element import element_pass, element_pass_parallel
+from peenflow.fe.element import element_pass, element_pass_parallel, element_rows, element_rows_parallel
 from peenflow.fe.impact import Options, run_impacts
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import BoxMesh, graded_axis
@@ -46,13 +46,16 @@ def _pass_arrays(mesh, plastic):
                 hg=np.zeros((ne, 12)), temp=np.full(ne, 293.0), vol0=mesh.element_volumes(), mat=mat.to_array())
 
 
-def element_rate(shape, threads, plastic, reps=None):
+def element_rate(shape, threads, plastic, reps=None, blocked=True):
     nx, ny, nz = shape
     h = 25e-6
     mesh = BoxMesh(np.arange(nx + 1) * h, np.arange(ny + 1) * h, np.arange(nz + 1) * h)
     a = _pass_arrays(mesh, plastic)
     nnx, nny, _ = mesh.shape_nodes
-    fn = element_pass_parallel if threads > 1 else element_pass
+    if blocked:
+        fn = element_rows_parallel if threads > 1 else element_rows
+    else:
+        fn = element_pass_parallel if threads > 1 else element_pass
     if threads > 1:
         numba.set_num_threads(threads)
     args = lambda: (a["x"], a["v"], a["f"], a["stress"], a["eps_p"], a["sy"], a["hg"], a["temp"], a["vol0"],
@@ -69,15 +72,16 @@ def element_rate(shape, threads, plastic, reps=None):
 def throughput():
     print(f"# element-updates/s (M/s), element pass only, float64; loadavg at start {loadavg()}, "
           f"{os.cpu_count()} cores")
-    element_rate((4, 4, 4), 1, False, 2)
-    element_rate((4, 4, 4), 2, False, 2)
-    print("| mesh | elements | threads | elastic M/s | plastic M/s |")
-    print("|---|---|---|---|---|")
+    for b in (True, False):
+        element_rate((4, 4, 4), 1, False, 2, b)
+        element_rate((4, 4, 4), 2, False, 2, b)
+    print("| mesh | elements | threads | blocked elastic M/s | blocked plastic M/s | per-element elastic M/s | per-element plastic M/s |")
+    print("|---|---|---|---|---|---|---|")
     for shape in ((20, 20, 20), (60, 60, 60), (120, 120, 40)):
         for th in (1, 2):
-            e = element_rate(shape, th, False)
-            p = element_rate(shape, th, True)
-            print(f"| {shape[0]}x{shape[1]}x{shape[2]} | {np.prod(shape)} | {th} | {e:.2f} | {p:.2f} |", flush=True)
+            r = [element_rate(shape, th, p, None, b) for b in (True, False) for p in (False, True)]
+            print(f"| {shape[0]}x{shape[1]}x{shape[2]} | {np.prod(shape)} | {th} | " + " | ".join(f"{x:.2f}" for x in r) + " |",
+                  flush=True)
     print(f"# loadavg at end {loadavg()}")
 
 
@@ -186,9 +190,9 @@ def plastic_table():
     for v in (25.0, 55.0):
         j = johnson_plastic(R, m, v, 3 * SAE1070["A"])
         print(f"# Johnson fully plastic at {v} m/s: depth {j['delta']*1e6:.1f} um, diameter {2*j['a']*1e3:.3f} mm")
-    print("| v m/s | rate term | h um | dent depth um | dent diameter mm | max approach um | restitution | "
-          "peak force N | hourglass | wall s |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| v m/s | rate term | h um | dent depth um | crest diameter mm | contact diameter mm | max approach um | "
+          "restitution | peak force N | hourglass | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for v in (25.0, 55.0):
         for rate in (True, False):
             for h in (25e-6, 12.5e-6):
@@ -203,13 +207,14 @@ def plastic_table():
                 nnx, nny, _ = mesh.shape_nodes
                 uz = res.displacement[: nnx * nny, 2]
                 X = res.nodes[: nnx * nny]
-                # dent diameter: where the residual surface profile along x crosses zero (pile-up starts)
+                # dent diameter through the pile-up crest (highest point, min u_z) along the x axis
                 row = np.abs(X[:, 1]) < 1e-12
                 xs, us = X[row, 0], uz[row]
-                inside = xs[(us > 0)]
-                diam = inside.max() - inside.min() if len(inside) else 0.0
+                right = xs > 0
+                diam = 2.0 * xs[right][np.argmin(us[right])]
                 s = res.shots
                 print(f"| {v:g} | {'on' if rate else 'off'} | {h*1e6:g} | {uz.max()*1e6:.2f} | {diam*1e3:.3f} | "
+                      f"{2*s['max_contact_radius'][0]*1e3:.3f} | "
                       f"{s['max_approach'][0]*1e6:.2f} | {s['restitution'][0]:.3f} | {s['peak_force'][0]:.0f} | "
                       f"{res.hourglass_ratio:.3f} | {time.perf_counter()-t0:.1f} |", flush=True)
 
