@@ -58,6 +58,9 @@ class Options:
     bulk_linear, bulk_quadratic : bulk-viscosity coefficients.
     window : integrate only an active window around each impact.
     window_lateral, window_depth : window half width / depth in estimated contact radii.
+    window_sponge : absorbing layer along the held window faces, as a fraction
+      of the window's smaller extent (half width or depth); 0 = none.
+    sponge_damping : its peak damping rate, x c_dilatational / layer thickness.
     settle_damping : damping factor for settling after each impact (x pi c_s / L).
     rest_ke_fraction, rest_v_fraction : "at rest" after an impact (x impact energy / speed).
     relax_damping, relax_ke_fraction, relax_v_fraction : same for global
@@ -85,6 +88,8 @@ class Options:
     window: bool = True
     window_lateral: float = 4.0
     window_depth: float = 4.0
+    window_sponge: float = 0.0
+    sponge_damping: float = 10.0
     settle_damping: float = 1.0
     rest_ke_fraction: float = 1e-6
     rest_v_fraction: float = 1e-4
@@ -285,6 +290,13 @@ def run_impacts(
                 )
             else:
                 win = model.full_window
+            sponge_n, sponge_a = 0, 0.0
+            if options.window and options.window_sponge > 0:
+                m_ = model.mesh
+                ext = min(0.5 * (m_.x[win[1]] - m_.x[win[0]]), 0.5 * (m_.y[win[3]] - m_.y[win[2]]), m_.z[win[5]])
+                hmin = float(np.min(np.diff(m_.z)))
+                sponge_n = max(2, int(round(options.window_sponge * ext / hmin)))
+                sponge_a = options.sponge_damping * material.wave_speed / (sponge_n * hmin)
             cap = 0
             if options.record:
                 cap = 200_000
@@ -302,6 +314,8 @@ def run_impacts(
                 record_every=options.record_every,
                 record_capacity=cap,
                 threads=options.threads,
+                sponge_layers=sponge_n,
+                sponge_alpha=sponge_a,
                 where="impact",
                 shot_index=i,
             )
