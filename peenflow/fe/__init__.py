@@ -1,1 +1,35 @@
-"""fe"""
+"""peenflow.fe -- the numba explicit FE/DEM shot-impact kernel (SI units, arrays in, arrays out).
+
+Public API::
+
+    from peenflow.fe import (run_impacts, Options, Target, Material, Shots,
+                             graded_box, graded_axis, box_mesh, BoxMesh,
+                             KernelState, KernelInstabilityError, hertz, johnson_plastic)
+
+    result = run_impacts(Target(graded_box(...)), Material(E=..., nu=..., density=..., A=..., B=..., n=..., C=...),
+                         Shots(centres=(n,3), velocities=(n,3), radius=R, density=rho), Options(),
+                         state=None, snapshot_after=(10, 20), on_shot_done=None)
+
+Modules (one concept each): ``mesh`` (structured hex box, graded axes),
+``boundary`` (fixity masks), ``johnson_cook`` (eq. 1 and its return mapping),
+``element`` (one-point hex + hourglass), ``contact`` (rigid sphere, kinematic
++ Coulomb), ``shots`` (shot data, free flight, Hertz/Johnson estimates),
+``solver`` (the explicit loop over an active window), ``relaxation``
+(global dynamic relaxation), ``state`` (checkpointable state), ``model``
+(static arrays of a run, target), ``safety`` (status codes -> exceptions),
+``impact`` (the driver).
+"""
+
+from peenflow.fe.impact import ImpactRunResult, Options, Snapshot, run_impacts
+from peenflow.fe.johnson_cook import Material
+from peenflow.fe.mesh import BoxMesh, box_mesh, graded_axis, graded_box, symmetric_axis
+from peenflow.fe.model import Target
+from peenflow.fe.safety import KernelInstabilityError
+from peenflow.fe.shots import Shots, hertz, johnson_plastic
+from peenflow.fe.state import SHOT_RECORD_FIELDS, KernelState
+
+__all__ = [
+    "run_impacts", "Options", "ImpactRunResult", "Snapshot", "Target", "Material", "Shots",
+    "BoxMesh", "box_mesh", "graded_axis", "graded_box", "symmetric_axis",
+    "KernelState", "SHOT_RECORD_FIELDS", "KernelInstabilityError", "hertz", "johnson_plastic",
+]

@@ -38,14 +38,12 @@ N_SHOT = 13
 
 
 @jit
-def contact_kinematic(x, v, mass, bc, area, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0, nj1, cand, dn):
+def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0, nj1, cand, dn):
     """Kinematic sphere contact on top-surface nodes ``i in [ni0, ni1], j in [nj0, nj1]``.
 
     ``cand`` (int64 scratch, >= number of surface nodes) and ``dn``
     ((len(cand), 4) float64 scratch) hold the candidates and their accumulated
     normal correction. Modifies ``x``, ``v`` (nodes) and ``shot`` in place.
-
-    ``area`` (n_surface_nodes,) m^2: reference tributary area of each top node.
 
     Returns ``(n_contact, Jx, Jy, Jz, dE_loss, max_overlap, max_radius,
     dKE_nodes, r2_mean)``: the number of nodes in contact, the impulse

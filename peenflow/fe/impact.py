@@ -58,10 +58,19 @@ class Options:
     bulk_linear, bulk_quadratic : bulk-viscosity coefficients.
     window : integrate only an active window around each impact.
     window_lateral, window_depth : window half width / depth in estimated contact radii.
+    window_sponge : absorbing layer along the held window faces, as a fraction
+      of the window's smaller extent (half width or depth); 0 = none.
+    sponge_damping : its peak damping rate, x c_dilatational / layer thickness.
     settle_damping : damping factor for settling after each impact (x pi c_s / L).
     rest_ke_fraction, rest_v_fraction : "at rest" after an impact (x impact energy / speed).
-    relax_damping, relax_ke_fraction, relax_v_fraction : same for global relaxations.
+    relax_damping, relax_ke_fraction, relax_v_fraction : same for global
+      relaxations (defaults: KE <= 1e-7 x the largest impact energy, max
+      speed <= 1e-4 x the largest shot speed; 10x stricter changes the
+      averaged residual profile by < 0.1 %, BENCHMARKS.md).
     lead_steps : the shot starts this many stable steps before touching.
+    final_relaxation : relax the whole mesh after the last shot (False: the
+      result fields are the unrelaxed final state; for timing and callers
+      that relax themselves).
     threads : numba threads for the element loop (1 = serial kernel).
     precision : "float64" (only option implemented).
     record : keep per-step histories (contact force, shot trajectory, energies).
@@ -79,13 +88,16 @@ class Options:
     window: bool = True
     window_lateral: float = 4.0
     window_depth: float = 4.0
+    window_sponge: float = 0.0
+    sponge_damping: float = 10.0
     settle_damping: float = 1.0
     rest_ke_fraction: float = 1e-6
     rest_v_fraction: float = 1e-4
     relax_damping: float = 1.0
-    relax_ke_fraction: float = 1e-8
-    relax_v_fraction: float = 1e-5
+    relax_ke_fraction: float = 1e-7
+    relax_v_fraction: float = 1e-4
     lead_steps: int = 2
+    final_relaxation: bool = True
     threads: int = 1
     precision: str = "float64"
     record: bool = False
@@ -278,6 +290,13 @@ def run_impacts(
                 )
             else:
                 win = model.full_window
+            sponge_n, sponge_a = 0, 0.0
+            if options.window and options.window_sponge > 0:
+                m_ = model.mesh
+                ext = min(0.5 * (m_.x[win[1]] - m_.x[win[0]]), 0.5 * (m_.y[win[3]] - m_.y[win[2]]), m_.z[win[5]])
+                hmin = float(np.min(np.diff(m_.z)))
+                sponge_n = max(2, int(round(options.window_sponge * ext / hmin)))
+                sponge_a = options.sponge_damping * material.wave_speed / (sponge_n * hmin)
             cap = 0
             if options.record:
                 cap = 200_000
@@ -295,6 +314,8 @@ def run_impacts(
                 record_every=options.record_every,
                 record_capacity=cap,
                 threads=options.threads,
+                sponge_layers=sponge_n,
+                sponge_alpha=sponge_a,
                 where="impact",
                 shot_index=i,
             )
@@ -330,7 +351,10 @@ def run_impacts(
         if on_shot_done is not None:
             on_shot_done(i, exporter)
     final = st.with_records(np.array(records).reshape(-1, len(SHOT_RECORD_FIELDS)))
-    rs, _ = relax(model, final, options, e_ref, v_ref, where="final relaxation")
+    if options.final_relaxation:
+        rs, _ = relax(model, final, options, e_ref, v_ref, where="final relaxation")
+    else:
+        rs = final
     rec = final.shot_records
     shot_dict = {name: rec[:, k].copy() for k, name in enumerate(SHOT_RECORD_FIELDS)}
     en = final.energy

@@ -154,12 +154,9 @@ class BoxMesh:
 
     def lumped_mass(self, density: float) -> np.ndarray:
         """Row-sum lumped nodal masses, (n_nodes,) kg (each element gives 1/8 of its mass to each node)."""
-        m = np.zeros(self.n_nodes)
         me = density * self.element_volumes() / 8.0
         conn = self.connectivity()
-        for a in range(8):
-            np.add.at(m, conn[:, a], me)
-        return m
+        return np.bincount(conn.ravel(), weights=np.repeat(me, 8), minlength=self.n_nodes)
 
     def surface_tributary_area(self) -> np.ndarray:
         """Tributary area of each top-surface node (k = 0), (nny, nnx) m^2."""

@@ -63,7 +63,6 @@ class Model:
         self.nx, self.ny, self.nz = mesh.shape_elements
         self.cand = np.zeros(self.nnx * self.nny, dtype=np.int64)
         self.dn = np.zeros((self.nnx * self.nny, 4))
-        self.area = np.ascontiguousarray(mesh.surface_tributary_area().ravel())
 
     def new_state(self) -> KernelState:
         m = self.material
@@ -111,6 +110,8 @@ class Model:
         record_every: int = 0,
         record_capacity: int = 0,
         threads: int = 1,
+        sponge_layers: int = 0,
+        sponge_alpha: float = 0.0,
         where: str = "impact",
         shot_index=None,
         raise_on_error: bool = True,
@@ -136,6 +137,8 @@ class Model:
         ctl[S.C_RUNAWAY] = runaway
         ctl[S.C_OMEGA_C2] = 0.0
         ctl[S.C_FORCE_SCALE] = force_scale
+        ctl[S.C_SPONGE_W] = sponge_layers
+        ctl[S.C_SPONGE_A] = sponge_alpha
         info = np.zeros(S.N_INFO)
         rec = np.zeros((max(record_capacity, 1), S.N_REC))
         parallel = threads > 1
@@ -143,7 +146,7 @@ class Model:
             numba.set_num_threads(threads)
         status = S.run_phase(
             mode, parallel, max_steps, record_every if record_capacity > 0 else 0,
-            s.x, s.v, s.f, self.mass, self.bc, self.area, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat, self.mat_static,
+            s.x, s.v, s.f, self.mass, self.bc, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat, self.mat_static,
             self.mesh.x, self.mesh.y, self.nnx, self.nny, self.nx, self.ny, win, hold,
             shot, ctl, s.energy, rec, info, self.cand, self.dn,
         )

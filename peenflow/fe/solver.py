@@ -46,7 +46,7 @@ import numpy as np
 
 from peenflow._jit import jit
 from peenflow.fe.contact import contact_kinematic
-from peenflow.fe.element import element_pass, element_pass_parallel
+from peenflow.fe.element import element_rows, element_rows_parallel
 
 MODE_IMPACT = 0
 MODE_RELAX = 1
@@ -62,8 +62,8 @@ ST_MAX_STEPS = 7
 
 # control vector indices (float64)
 C_DT_PREV, C_DT_NEXT, C_TIME, C_SAFETY, C_ALPHA, C_REST_KE, C_REST_V, C_E_REF = 0, 1, 2, 3, 4, 5, 6, 7
-C_DT_FLOOR, C_RUNAWAY, C_OMEGA_C2, C_FORCE_SCALE = 8, 9, 10, 11
-N_CTL = 12
+C_DT_FLOOR, C_RUNAWAY, C_OMEGA_C2, C_FORCE_SCALE, C_SPONGE_W, C_SPONGE_A = 8, 9, 10, 11, 12, 13
+N_CTL = 14
 
 # energy accumulator indices (J, cumulative over the run)
 E_INT, E_PL, E_HG, E_VISC, E_CONTACT, E_DAMP = 0, 1, 2, 3, 4, 5
@@ -81,16 +81,20 @@ N_REC = 19
 
 
 @jit
-def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, alpha):
+def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, alpha,
+                 sponge_w, sponge_a):
     """Velocity/position update of the window's nodes; zeroes ``f`` there.
+
+    Nodes within ``sponge_w`` node layers of a held window face get extra
+    mass-proportional damping ``sponge_a * (1 - d / sponge_w)^2`` (1/s; d the
+    distance in layers): an absorbing layer that keeps the held faces from
+    reflecting the impact's waves back to the contact.
 
     Returns ``(KE, max speed, damping work)``.
     """
     ke = 0.0
     vmax2 = 0.0
     wd = 0.0
-    c1 = 1.0 - 0.5 * alpha * dt_avg
-    c2 = 1.0 / (1.0 + 0.5 * alpha * dt_avg)
     for k in range(nk0, nk1 + 1):
         hk = (k == nk0 and hold[4]) or (k == nk1 and hold[5])
         for j in range(nj0, nj1 + 1):
@@ -103,6 +107,24 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
                     f[n, 1] = 0.0
                     f[n, 2] = 0.0
                     continue
+                al = alpha
+                if sponge_w > 0:
+                    dmin = sponge_w
+                    if hold[0] and i - ni0 < dmin:
+                        dmin = i - ni0
+                    if hold[1] and ni1 - i < dmin:
+                        dmin = ni1 - i
+                    if hold[2] and j - nj0 < dmin:
+                        dmin = j - nj0
+                    if hold[3] and nj1 - j < dmin:
+                        dmin = nj1 - j
+                    if hold[5] and nk1 - k < dmin:
+                        dmin = nk1 - k
+                    if dmin < sponge_w:
+                        r = 1.0 - dmin / sponge_w
+                        al += sponge_a * r * r
+                c1 = 1.0 - 0.5 * al * dt_avg
+                c2 = 1.0 / (1.0 + 0.5 * al * dt_avg)
                 im = dt_avg / mass[n]
                 b = bc[n]
                 s2 = 0.0
@@ -119,7 +141,7 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
                     vm = 0.5 * (vo + vn)
                     sm += vm * vm
                 ke += 0.5 * mass[n] * s2
-                wd += alpha * mass[n] * sm * dt_avg
+                wd += al * mass[n] * sm * dt_avg
                 if s2 > vmax2:
                     vmax2 = s2
     return ke, math.sqrt(vmax2), wd
@@ -128,7 +150,7 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
 @jit
 def run_phase(
     mode, parallel, max_steps, record_every,
-    x, v, f, mass, bc, area, stress, eps_p, sy_static, hg, temp, vol0, mat_dyn, mat_static,
+    x, v, f, mass, bc, stress, eps_p, sy_static, hg, temp, vol0, mat_dyn, mat_static,
     xs_ref, ys_ref, nnx, nny, nx, ny, win, hold,
     shot, ctl, energy, rec, info, cand, dn,
 ):
@@ -147,6 +169,7 @@ def run_phase(
     e_ref = ctl[C_E_REF]
     om_c2 = ctl[C_OMEGA_C2]
     fscale = ctl[C_FORCE_SCALE]
+    sponge_w = int(ctl[C_SPONGE_W])
     shot_active = mode == MODE_IMPACT
     damping = mode == MODE_RELAX
     separated = False
@@ -190,7 +213,8 @@ def run_phase(
             dt_prev = dt
         dt_avg = 0.5 * (dt_prev + dt)
         a_d = alpha if damping else 0.0
-        ke, vmax, wd = _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, a_d)
+        ke, vmax, wd = _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, a_d,
+                                     sponge_w, ctl[C_SPONGE_A])
         energy[E_DAMP] += wd
         ncon = 0
         if shot_active:
@@ -198,7 +222,7 @@ def run_phase(
             shot[1] += dt * shot[4]
             shot[2] += dt * shot[5]
             ncon, jx, jy, jz, de, mov, mrad, dke, r2m = contact_kinematic(
-                x, v, mass, bc, area, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0, nj1, cand, dn)
+                x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0, nj1, cand, dn)
             ke += dke
             energy[E_CONTACT] += de
             if ncon > 0:
@@ -228,10 +252,10 @@ def run_phase(
                 info[I_VZ] = shot[5]
         mat = mat_static if damping else mat_dyn
         if parallel:
-            dtn, st, wi, wp, wh, wv = element_pass_parallel(
+            dtn, st, wi, wp, wh, wv = element_rows_parallel(
                 x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1)
         else:
-            dtn, st, wi, wp, wh, wv = element_pass(
+            dtn, st, wi, wp, wh, wv = element_rows(
                 x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1)
         time += dt
         dt_prev = dt
@@ -301,7 +325,7 @@ def initial_dt(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, nnx, nny,
     """Smallest element step of the window at the current state, without
     changing anything (a zero-step element pass on copies would be wasteful:
     with ``dt = 0`` and ``f`` scratch the pass leaves the state unchanged)."""
-    dtn, st, wi, wp, wh, wv = element_pass(
+    dtn, st, wi, wp, wh, wv = element_rows(
         x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, 0.0, nnx, nny, nx, ny,
         win[0], win[1], win[2], win[3], win[4], win[5])
     return dtn, st

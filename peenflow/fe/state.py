@@ -39,7 +39,7 @@ class KernelState:
     temp : (n_elements,) K, temperature;
     energy : (6,) J, cumulative W_int, W_plastic, W_hourglass, W_viscous,
       E_contact (lost in contact + friction), E_damping;
-    ctl : (12,) solver control scalars (dt_prev s, dt_next s, time s, ...);
+    ctl : (14,) solver control scalars (dt_prev s, dt_next s, time s, ...);
     shot_index : (1,) int64, number of shots processed;
     shot_records : (n_done, len(SHOT_RECORD_FIELDS)) per-shot summaries.
     """

@@ -135,3 +135,33 @@ def test_inverted_element_is_reported():
     X[:, 2] *= -1.0  # mirror: every element inside out
     _, status, *_ = _pass(mesh, a, X, np.zeros_like(X), 1e-9)
     assert status == 2
+
+
+def test_blocked_pass_matches_reference_pass():
+    from peenflow.fe.element import element_rows
+
+    mesh = BoxMesh(*(np.arange(12) * 1e-5,) * 2, np.arange(7) * 1e-5)
+    rng = np.random.default_rng(3)
+    X = mesh.node_coordinates() + rng.normal(0, 5e-7, (mesh.n_nodes, 3))
+    v = rng.normal(0, 2.0, X.shape)
+    nnx, nny, _ = mesh.shape_nodes
+    nx, ny, nz = mesh.shape_elements
+    mat = Material(E=205e9, nu=0.29, density=7800.0, A=1e8, B=6e8, n=0.234, C=0.0134).to_array()
+    out = []
+    for fn in (element_pass, element_rows):
+        a = _arrays(mesh)
+        a["sy"][:] = 1e8
+        a["stress"][:] = rng.normal(0, 1e8, a["stress"].shape) if not out else out[0][1]["stress0"]
+        s0 = a["stress"].copy()
+        r = fn(X, v, a["f"], a["stress"], a["eps_p"], a["sy"], a["hg"], a["temp"], a["vol0"], mat, 2e-9,
+               nnx, nny, nx, ny, 1, nx, 0, ny - 1, 0, nz)
+        a["stress0"] = s0
+        out.append((r, a))
+    (r1, a1), (r2, a2) = out
+    assert r1[1] == r2[1] == 0
+    assert r1[0] == pytest.approx(r2[0], rel=1e-14)
+    for k in ("f", "stress", "eps_p", "hg", "sy"):
+        scale = np.abs(a1[k]).max()
+        assert scale > 0
+        np.testing.assert_allclose(a2[k], a1[k], rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(r2[2:], r1[2:], rtol=1e-10)
