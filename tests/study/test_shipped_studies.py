@@ -70,10 +70,9 @@ def test_quickstart_is_coarse_and_runs_the_whole_chain():
     s = load_study(STUDIES / "quickstart.toml")
     assert s.stages() == ("control_curves", "target_dmin", "coverage", "residual_stress")
     assert s.fidelity.preset == "coarse" and 50 <= s.fidelity.element_size_um <= 60
-    assert s.almen.angles_deg == (90.0,) and len(s.almen.velocities_m_s) == 2
-    assert s.almen.shot_counts == (5, 10, 20, 40)
-    assert s.almen.rev_side_m() == pytest.approx(2.4e-3) and s.almen.measure_side_m() == pytest.approx(0.8e-3)
-    assert s.target.material.name == "Al7075-T73" and s.target.coverage_percent == 100.0
-    assert s.fidelity.fine_depth_m == pytest.approx(0.75 * 0.58e-3)
-    assert s.execution.threads_per_worker == 1 and s.execution.workers == "auto"
+    assert len(s.almen.velocities_m_s) >= 2  # a control curve needs two velocities to invert
+    assert len(s.almen.shot_counts) >= 3  # eq. (10) has three parameters
+    assert 0 < s.almen.measure_side_m() < s.almen.rev_side_m()
+    assert s.target.intensity_mm is not None and s.target.velocity_m_s is None  # velocity from the curve
+    assert s.target.material.name == "Al7075-T73"
     assert math.isfinite(s.target.material.dilatational_wave_speed_m_s)
