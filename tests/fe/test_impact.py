@@ -209,3 +209,24 @@ def test_plastic_impact_converges(speed, tol):
     assert out[25e-6][0] == pytest.approx(out[12.5e-6][0], rel=tol)
     assert out[25e-6][1] == pytest.approx(out[12.5e-6][1], rel=tol)
     assert out[12.5e-6][2] < 0.10
+
+
+def test_adiabatic_heating_and_thermal_softening():
+    """m > 0 with adiabatic heating: each element heats by beta sigma_y d eps_p / (rho c_p)."""
+    t = coarse_target()
+    base = dict(SAE1070, C=0.0)
+    cold = run_impacts(t, Material(**base), one_shot(55.0), Options())
+    hot_mat = Material(**{**base, "m": 1.0}, adiabatic=True, T_melt=1793.0, taylor_quinney=0.9, specific_heat=477.0)
+    hot = run_impacts(t, hot_mat, one_shot(55.0), Options())
+    temp = hot.final_state.temp
+    ep = hot.eps_p
+    e = np.argmax(ep)
+    rise = temp[e] - hot_mat.initial_temperature
+    # bounds: flow stress between A (softened by the final T*) and the hardened JC value
+    k = hot_mat.taylor_quinney / (hot_mat.density * hot_mat.specific_heat)
+    lo = k * hot_mat.A * ep[e] * (1 - rise / (hot_mat.T_melt - hot_mat.T_room))
+    hi = k * hot_mat.flow_stress(ep[e]) * ep[e]
+    assert lo < rise < hi
+    assert np.all(temp[ep == 0] == hot_mat.initial_temperature)
+    # thermal softening: deeper dent than without
+    assert dent_depth(hot, t) > dent_depth(cold, t)
