@@ -66,13 +66,18 @@ def test_target_chain_dent_coverage_and_profile(micro):
     cov = peenflow.open_result(micro, "coverage_curve")
     n_f = float(cov.full_coverage_shots)
     assert float(cov.coverage_shots) == pytest.approx(n_f)  # 100 % coverage -> N_c = N_f
-    # Monte Carlo follows the closed form for uniform landings within sampling noise:
-    # 4 standard errors of the mean over the sequences, plus one grid node (1/41^2).
-    c = cov.coverage_percent.values
-    se = c.std(axis=0, ddof=1) / np.sqrt(c.shape[0])
-    diff = np.abs(c.mean(axis=0) - cov.uniform_closed_form_percent.values)
-    assert np.all(diff <= 4 * se + 100.0 / 41 ** 2), (diff, se)
-    assert cov.coverage_mean_percent.values[-1] > 95.0
+    # Coverage only grows with N and reaches full coverage by the largest N (chosen
+    # for 99.9 % expected); eq. (5) describes the Monte-Carlo curve.  (The exact
+    # closed form holds for independent landings and is tested in tests/methods;
+    # the paper's 2R rejection spreads landings more evenly, so it is not exact here.)
+    mean = cov.coverage_mean_percent.values
+    assert np.all(np.diff(mean) >= 0)
+    assert mean[-1] > 95.0
+    # eq. (5)'s N_f is where the Monte-Carlo mean crosses 98 %: near full coverage the
+    # 8-sequence mean has a standard error of ~4 % coverage, about 10 % in N at the
+    # local slope, so 25 % is 2.5 standard errors.
+    crossing = float(np.interp(98.0, mean, cov.shots.values))
+    assert abs(n_f - crossing) < 0.25 * crossing
     prof = peenflow.open_result(micro, "residual_profile")
     assert float(prof.stress_xx_mean_MPa[0]) < -50  # compressive at the surface
 
