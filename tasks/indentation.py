@@ -10,7 +10,8 @@ from ._common import peening_task, var
 
 
 @peening_task(version="1")
-def indentation(impact: xr.Dataset, *, rim: str = "crest") -> xr.Dataset:
+def indentation(impact: xr.Dataset, *, rim: str = "crest", angle_deg: float | None = None) -> xr.Dataset:
+    """Dent ellipse of ``impact`` (``angle_deg`` names the point of a swept stage)."""
     x = impact.x_node_full.values
     y = impact.y_node_full.values
     e = dent_ellipse(x, y, impact.surface_uz_m.values, (0.0, 0.0), rim=rim,

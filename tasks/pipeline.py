@@ -3,6 +3,7 @@
 ::
 
     strip_impact[angle] -> strip_dmin[angle] -> strip_rev            (almen.rev_rule = "dmin")
+    strip_impact[angle] -> strip_indentation[angle] + strip_rev -> strip_coverage[angle]   (Fig. 11)
     strip_rev -> strip_runs[angle, velocity, sequence] -> arc_height[angle, velocity]
               -> saturation[angle, velocity] -> control_curve
     control_curve -> target_velocity -> target_impact -> target_indentation
@@ -98,6 +99,17 @@ def build_graph(path) -> Graph:
             rev = g.add(rev_size, upstream={"dmin": dm}, stage="strip_rev", params={
                 "rule": "dmin", "thickness_m": h, "shot_diameter_m": D,
                 "measure_side_m": None if almen.measure_size_mm is None else almen.measure_size_mm * 1e-3})
+            # the paper's Fig. 11: coverage on the strip REV from each angle's dent
+            dent_s = g.sweep(indentation, dims={"angle_deg": angles}, upstream={"impact": imp},
+                             stage="strip_indentation")
+            g.sweep(coverage_curve, dims={"angle_deg": angles}, upstream={"dent": dent_s, "rev": rev},
+                    stage="strip_coverage", params={
+                        "shot_radius_m": study.shot.radius_m, "grid_points": study.coverage.grid_points,
+                        "max_shots": study.coverage.max_shots,
+                        "shot_counts": None if study.coverage.shot_counts is None else list(study.coverage.shot_counts),
+                        "sequences": study.coverage.sequences,
+                        "seeds": list(study.seeds.seeds("coverage", study.coverage.sequences)),
+                        "coverage_percent": 100.0})
         else:
             rev = g.add(rev_size, stage="strip_rev", params={
                 "rule": almen.rev_rule, "thickness_m": h, "shot_diameter_m": D,

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import peenflow
+import peenflow.api
 
 HERE = Path(__file__).parent
 
@@ -147,3 +148,16 @@ def test_killed_study_resumes_mid_stage_to_the_identical_result(micro, tmp_path)
         b = peenflow.open_result(micro, stage)
         for v in a.data_vars:
             np.testing.assert_array_equal(a[v].values, b[v].values, err_msg=f"{stage}.{v}")
+
+
+@pytest.mark.parametrize("name, stages", [
+    ("quickstart", {"strip_runs", "control_curve", "target_dmin", "coverage_curve", "target_runs", "residual_profile"}),
+    ("paper_almen_s230", {"strip_impact", "strip_dmin", "strip_coverage", "strip_runs", "control_curve"}),
+    ("paper_al7075", {"strip_dmin", "control_curve", "target_velocity", "target_dmin", "target_runs"}),
+    ("paper_al7075_v47", {"target_impact", "target_dmin", "coverage_curve", "target_runs"}),
+])
+def test_shipped_studies_build_their_stage_graph(name, stages):
+    graph = peenflow.api.load_study_graph(HERE.parents[1] / "studies" / f"{name}.toml")
+    assert stages <= set(graph.stages)
+    if name == "paper_almen_s230":  # the paper's section-4 sweep: 3 angles x 4 velocities x 6 sequences
+        assert len(graph.stage_nodes("strip_runs")) == 72
