@@ -27,6 +27,9 @@ from .atomic import read_json, write_json_atomic
 
 HEARTBEAT_S = 5.0
 STALE_AFTER_S = 60.0
+#: an owner writes owner.json right after mkdir; a lease still without one after
+#: this long belongs to a run killed in between
+OWNERLESS_GRACE_S = 10.0
 
 
 @dataclass(frozen=True)
@@ -125,10 +128,12 @@ class LeaseTable:
         owner_path = directory / "owner.json"
         owner = read_json(owner_path)
         if owner is None:
-            if not directory.exists():
+            try:
+                age = time.time() - directory.stat().st_mtime
+            except OSError:
                 return None
-            # Being created right now: owner.json not yet written.
-            return LeaseInfo(key, "?", -1, time.time(), 0.0, "?")
+            # Being created right now, or its creator was killed before writing owner.json.
+            return LeaseInfo(key, "?", -1, time.time() - age, age, "?")
         try:
             age = time.time() - owner_path.stat().st_mtime
         except OSError:
@@ -137,9 +142,11 @@ class LeaseTable:
                          owner.get("point", "?"))
 
     def break_if_dead(self, key: str) -> bool:
-        """Remove a lease whose holder was on this host and has died."""
+        """Remove a lease whose holder was on this host and has died, or that never got an owner."""
         info = self.info(key)
-        if info is not None and info.holder_alive is False:
+        if info is None:
+            return False
+        if info.holder_alive is False or (info.pid == -1 and info.heartbeat_age_s > OWNERLESS_GRACE_S):
             _remove_dir(self.path(key))
             return True
         return False

@@ -113,3 +113,20 @@ def test_a_lease_of_a_dead_local_process_is_broken_automatically(tmp_path):
         {"host": socket.gethostname(), "pid": dead_pid, "started": 0, "point": "killed run"}))
     st = statuses(peenflow("run", study, timeout=60).stdout)
     assert st[item.node.node_id] == "computed"
+
+
+def test_a_lease_left_without_owner_by_a_killed_run_is_broken(tmp_path):
+    """A run killed between mkdir and writing owner.json must not block the next run."""
+    study = write_toy(tmp_path / "s")
+    store = DirectoryStore(tmp_path / "s" / ".peenflow")
+    peenflow("run", study, "--until", "source")
+    from peenflow.engine import load_graph, plan
+    from peenflow.engine.lease import OWNERLESS_GRACE_S
+
+    item = next(i for i in plan(load_graph(study, "x:y"), store) if i.node.stage == "scale")
+    lease = store.leases.path(item.key)
+    lease.mkdir(parents=True)
+    old = os.path.getmtime(lease) - 2 * OWNERLESS_GRACE_S
+    os.utime(lease, (old, old))
+    st = statuses(peenflow("run", study, timeout=60).stdout)
+    assert st[item.node.node_id] == "computed"
