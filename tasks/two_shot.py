@@ -21,7 +21,7 @@ import xarray as xr
 from peenflow.methods import bracket_from_radius, find_dmin, regions_overlap, single_impact_region_radius
 
 from . import _kernel as K
-from ._common import peening_task, scalar, var
+from ._common import peening_task, var
 
 
 def two_shot_surface(material, shot, fidelity, speed, angle_deg, d, half_width, thickness, threads):

@@ -1,5 +1,4 @@
 import numpy as np
-import numpy as np
 import pytest
 
 from peenflow.engine.canonical import ParameterError, canonical_json

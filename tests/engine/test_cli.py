@@ -98,15 +98,21 @@ def test_unlock_removes_a_lease_left_by_a_dead_process(tmp_path):
     assert not lease.exists()
 
 
-def test_a_lease_of_a_dead_local_process_is_broken_automatically(tmp_path):
+def _leased_scale_point(tmp_path):
+    """A toy study whose first scale point is leased by nobody alive: (study, point, lease dir)."""
+    from peenflow.engine import load_graph, plan
+
     study = write_toy(tmp_path / "s")
     store = DirectoryStore(tmp_path / "s" / ".peenflow")
     peenflow("run", study, "--until", "source")
-    from peenflow.engine import load_graph, plan
-
     item = next(i for i in plan(load_graph(study, "x:y"), store) if i.node.stage == "scale")
     lease = store.leases.path(item.key)
     lease.mkdir(parents=True)
+    return study, item, lease
+
+
+def test_a_lease_of_a_dead_local_process_is_broken_automatically(tmp_path):
+    study, item, lease = _leased_scale_point(tmp_path)
     dead_pid = 2 ** 22 + 12345
     assert not os.path.exists(f"/proc/{dead_pid}")
     (lease / "owner.json").write_text(json.dumps(
@@ -117,15 +123,9 @@ def test_a_lease_of_a_dead_local_process_is_broken_automatically(tmp_path):
 
 def test_a_lease_left_without_owner_by_a_killed_run_is_broken(tmp_path):
     """A run killed between mkdir and writing owner.json must not block the next run."""
-    study = write_toy(tmp_path / "s")
-    store = DirectoryStore(tmp_path / "s" / ".peenflow")
-    peenflow("run", study, "--until", "source")
-    from peenflow.engine import load_graph, plan
     from peenflow.engine.lease import OWNERLESS_GRACE_S
 
-    item = next(i for i in plan(load_graph(study, "x:y"), store) if i.node.stage == "scale")
-    lease = store.leases.path(item.key)
-    lease.mkdir(parents=True)
+    study, item, lease = _leased_scale_point(tmp_path)
     old = os.path.getmtime(lease) - 2 * OWNERLESS_GRACE_S
     os.utime(lease, (old, old))
     st = statuses(peenflow("run", study, timeout=60).stdout)
