@@ -63,6 +63,15 @@ class Model:
         self.nx, self.ny, self.nz = mesh.shape_elements
         self.cand = np.zeros(self.nnx * self.nny, dtype=np.int64)
         self.dn = np.zeros((self.nnx * self.nny, 4))
+        self._multigrid = None
+
+    def multigrid(self):
+        """The multigrid hierarchy of the static relaxation (built on first use, then kept)."""
+        if self._multigrid is None:
+            from peenflow.fe.multigrid import Multigrid
+
+            self._multigrid = Multigrid(self.mesh, self.bc, self.mat_static)
+        return self._multigrid
 
     def new_state(self) -> KernelState:
         m = self.material
