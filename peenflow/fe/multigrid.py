@@ -462,10 +462,11 @@ class Multigrid:
         return x
 
 
-def pcg(mg: Multigrid, b: np.ndarray, *, rtol: float, max_iter: int = 200):
+def pcg(mg: Multigrid, b: np.ndarray, *, rtol: float, max_iter: int = 200, z0: np.ndarray | None = None):
     """Conjugate gradients on level 0's ``K u = b``, preconditioned by one V-cycle.
 
     Stops when ``|r| <= rtol |b|`` (Euclidean norms of the free dofs).
+    ``z0``: ``mg.vcycle(b)`` if the caller has it already.
     Returns ``(u, iterations, |r| / |b|)``.
     """
     lev = mg.levels[0]
@@ -474,7 +475,7 @@ def pcg(mg: Multigrid, b: np.ndarray, *, rtol: float, max_iter: int = 200):
     nb = np.sqrt(dot(b, b))
     if nb == 0.0:
         return u, 0, 0.0
-    z = mg.vcycle(r)
+    z = mg.vcycle(r) if z0 is None else z0
     p = z.copy()
     rz = dot(r, z)
     kp = np.empty_like(b)
