@@ -131,7 +131,8 @@ def build_graph(path) -> Graph:
         given = t.velocity_m_s is not None
         vel = g.add(target_velocity, upstream={} if given else {"control": control}, params={
             "intensity_mm": t.intensity_mm, "angle_deg": t.angle_deg, "rule": t.control_angle_rule,
-            "velocity_m_s": t.velocity_m_s})
+            "velocity_m_s": t.velocity_m_s,
+            "allow_extrapolated": bool(study.almen and study.almen.allow_extrapolated_intensity)})
         imp_t = g.add(single_impact, upstream={"velocity": vel}, stage="target_impact", params={
             "material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg,
             "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(t.rev_thickness_m, IMPACT_BLOCK_D * D)})
