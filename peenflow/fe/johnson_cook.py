@@ -200,20 +200,16 @@ def radial_return(q_trial, eps_p, dt, theta, mat):
     return d, sy
 
 
-@jit
-def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt, eps_p, sy_static, temp, mat):
-    """Jaumann-rotated hypo-elastic trial + Johnson-Cook radial return.
+@jit(inline="always")
+def jaumann_trial(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt, lam, mu):
+    """Hypo-elastic trial stress: old stress rotated with the Jaumann rate plus
+    ``lambda tr(D) dt I + 2 mu D dt`` (arguments as :func:`stress_update`).
 
-    Stress ``s`` (Pa) and rate of deformation ``d`` (1/s, tensor components,
-    NOT engineering shear) in Voigt order xx yy zz yz xz xy; spin
-    ``w = (W_yz, W_xz, W_xy)`` (1/s, W = (L - L^T)/2). Returns the new stress
-    (6 values), ``d_eps_p``, the flow stress (Pa; the static one if elastic)
-    and ``g_ratio``: the ratio of the actual to the elastic-trial deviatoric
-    stress increment of the step (1 when elastic, ~E_t/E in steady plastic
-    flow), used to soften the hourglass stiffness of yielding elements.
+    The one implementation of the elastic update: :func:`stress_update` and the
+    blocked element kernel (``peenflow.fe.element``) both call it; it is
+    inlined (numba IR) so that the element kernel's lane loop stays free of
+    calls and vectorises.
     """
-    lam = mat[M_LAM]
-    mu = mat[M_MU]
     # Jaumann rotation: s += dt (W s - s W) = dt (M + M^T), M = W s
     # W = [[0, wxy, wxz], [-wxy, 0, wyz], [-wxz, -wyz, 0]]
     wyz, wxz, wxy = w0, w1, w2
@@ -236,17 +232,37 @@ def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt
     t3 = syz + dt * (m12 + m21) + mu2 * d3
     t4 = sxz + dt * (m02 + m20) + mu2 * d4
     t5 = sxy + dt * (m01 + m10) + mu2 * d5
+    return t0, t1, t2, t3, t4, t5
+
+
+@jit(inline="always")
+def von_mises(t0, t1, t2, t3, t4, t5):
+    """Von Mises equivalent of a stress (Voigt order xx yy zz yz xz xy), Pa."""
     p = (t0 + t1 + t2) / 3.0
     a0 = t0 - p
     a1 = t1 - p
     a2 = t2 - p
-    q = math.sqrt(1.5 * (a0 * a0 + a1 * a1 + a2 * a2 + 2.0 * (t3 * t3 + t4 * t4 + t5 * t5)))
-    if q <= sy_static or dt <= 0.0:
-        return t0, t1, t2, t3, t4, t5, 0.0, sy_static, 1.0
+    return math.sqrt(1.5 * (a0 * a0 + a1 * a1 + a2 * a2 + 2.0 * (t3 * t3 + t4 * t4 + t5 * t5)))
+
+
+@jit
+def plastic_correction(t0, t1, t2, t3, t4, t5, q, d0, d1, d2, d3, d4, d5, dt, eps_p, temp, mat):
+    """Radial return of the trial stress ``t`` whose von Mises value ``q``
+    exceeds the static flow stress; ``d`` the rate of deformation of the step.
+
+    Returns the corrected stress (6 values), ``d_eps_p``, the flow stress and
+    ``g_ratio`` as :func:`stress_update` does.
+    """
+    mu = mat[M_MU]
     theta = thermal_factor(temp, mat)
     deps, sy = radial_return(q, eps_p, dt, theta, mat)
     f = (q - 3.0 * mu * deps) / q
+    p = (t0 + t1 + t2) / 3.0
+    a0 = t0 - p
+    a1 = t1 - p
+    a2 = t2 - p
     # deviatoric increments: elastic trial (2 mu D' dt) vs actual (f a - s_old')
+    mu2 = 2.0 * mu * dt
     trd = (d0 + d1 + d2) / 3.0
     e0 = mu2 * (d0 - trd)
     e1 = mu2 * (d1 - trd)
@@ -268,6 +284,26 @@ def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt
         if g_ratio > 1.0:
             g_ratio = 1.0
     return p + f * a0, p + f * a1, p + f * a2, f * t3, f * t4, f * t5, deps, sy, g_ratio
+
+
+@jit
+def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt, eps_p, sy_static, temp, mat):
+    """Jaumann-rotated hypo-elastic trial + Johnson-Cook radial return.
+
+    Stress ``s`` (Pa) and rate of deformation ``d`` (1/s, tensor components,
+    NOT engineering shear) in Voigt order xx yy zz yz xz xy; spin
+    ``w = (W_yz, W_xz, W_xy)`` (1/s, W = (L - L^T)/2). Returns the new stress
+    (6 values), ``d_eps_p``, the flow stress (Pa; the static one if elastic)
+    and ``g_ratio``: the ratio of the actual to the elastic-trial deviatoric
+    stress increment of the step (1 when elastic, ~E_t/E in steady plastic
+    flow), used to soften the hourglass stiffness of yielding elements.
+    """
+    t0, t1, t2, t3, t4, t5 = jaumann_trial(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt,
+                                           mat[M_LAM], mat[M_MU])
+    q = von_mises(t0, t1, t2, t3, t4, t5)
+    if q <= sy_static or dt <= 0.0:
+        return t0, t1, t2, t3, t4, t5, 0.0, sy_static, 1.0
+    return plastic_correction(t0, t1, t2, t3, t4, t5, q, d0, d1, d2, d3, d4, d5, dt, eps_p, temp, mat)
 
 
 def material_point(material: "Material", path: str, strain_rate: float, total_strain: float, n_steps: int = 2000):
