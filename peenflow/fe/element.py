@@ -216,7 +216,7 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
     o4 = stress[e, 4]
     o5 = stress[e, 5]
     ep = eps_p[e]
-    n0_, n1_, n2_, n3_, n4_, n5_, deps, sy, gr = stress_update(
+    n0_, n1_, n2_, n3_, n4_, n5_, deps, sy, gr, sy_new = stress_update(
         o0, o1, o2, o3, o4, o5, lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy, dt, ep, sy_static[e], temp[e], mat
     )
     stress[e, 0] = n0_
@@ -231,7 +231,8 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
         dw_pl = sy * deps * vol
         if mat[M_ADIABATIC] != 0.0:
             temp[e] += mat[M_HEAT] * sy * deps
-        sy_static[e] = static_flow_stress(ep + deps, thermal_factor(temp[e], mat), mat)
+            sy_new = static_flow_stress(ep + deps, thermal_factor(temp[e], mat), mat)
+        sy_static[e] = sy_new
     # stress power (mid-step stress)
     dw_int = (
         0.5
@@ -779,7 +780,7 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
                 if q > sy_static[e] and w[_L0 + _STC * B + l] == 0.0:
                     o = _L0 + _SN * B + l
                     ol = _L0 + _LM * B + l
-                    n0_, n1_, n2_, n3_, n4_, n5_, deps, sy, gr = plastic_correction(
+                    n0_, n1_, n2_, n3_, n4_, n5_, deps, sy, gr, sy_new = plastic_correction(
                         w[o], w[o + B], w[o + 2 * B], w[o + 3 * B], w[o + 4 * B], w[o + 5 * B], q,
                         w[ol], w[ol + B], w[ol + 2 * B], w[ol + 3 * B], w[ol + 4 * B], w[ol + 5 * B],
                         dt, eps_p[e], temp[e], mat)
@@ -796,7 +797,8 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
                         out[3] += sy * deps * w[_L0 + _VOL * B + l]
                         if mat[M_ADIABATIC] != 0.0:
                             temp[e] += mat[M_HEAT] * sy * deps
-                        sy_static[e] = static_flow_stress(ep, thermal_factor(temp[e], mat), mat)
+                            sy_new = static_flow_stress(ep, thermal_factor(temp[e], mat), mat)
+                        sy_static[e] = sy_new
         # ---- pass 2 (vectorised): stress power, nodal forces, hourglass forces
         for l in range(B):
             ok = (l < nb) & (w[_L0 + _STC * B + l] == 0.0)
