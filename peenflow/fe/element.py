@@ -466,7 +466,7 @@ element_pass_parallel = jit(_element_pass_parallel, parallel=True)
 # order, so the summation order is fixed for any thread count.
 # ---------------------------------------------------------------------------
 
-BLOCK = 16
+BLOCK = 8
 
 # Lane scratch of _row: one flat float64 array per row, every quantity a slot
 # of BLOCK consecutive values (one per lane), slot offsets compile-time
