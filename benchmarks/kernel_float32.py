@@ -36,7 +36,7 @@ def _f32_source(fn) -> str:
 
 
 def build():
-    """Return ``(rows_pass_f32, scratch_size)``: the float32 element pass (same contract as ``element_rows``)."""
+    """Return ``(serial, parallel)`` float32 element passes (same contract as ``element_rows``)."""
     ns = dict(vars(element))
     ns.update(vars(johnson_cook))
     ns.update(F=np.float32, np=np, math=__import__("math"), prange=numba.prange)
@@ -47,6 +47,7 @@ def build():
         ns[helper.__name__] = numba.njit(inline="always", error_model="numpy", nogil=True)(ns[helper.__name__])
     exec(_f32_source(element._row), ns)
     ns["_row"] = numba.njit(error_model="numpy", nogil=True)(ns["_row"])
-    src = textwrap.dedent(inspect.getsource(element._rows_pass))
-    exec(src, ns)
-    return numba.njit(error_model="numpy", nogil=True)(ns["_rows_pass"])
+    exec(textwrap.dedent(inspect.getsource(element._rows_pass)), ns)
+    exec(textwrap.dedent(inspect.getsource(element._rows_pass_parallel)), ns)
+    return (numba.njit(error_model="numpy", nogil=True)(ns["_rows_pass"]),
+            numba.njit(error_model="numpy", nogil=True, parallel=True)(ns["_rows_pass_parallel"]))
