@@ -33,13 +33,22 @@ Two implementations of the same element (they agree to round-off, see
 tests/fe/test_element.py):
 
 * :func:`element_rows` (used by the solver): rows of elements along ``i``,
-  processed in blocks of ``BLOCK`` elements with structure-of-arrays scratch;
-  the plastic return and the nodal scatter in separate scalar loops. Rows are
-  coloured by the parity of ``(j, k)`` (4 colours): rows of one colour share
-  no node, so the scatter is race-free under ``prange`` and, each row being
-  done in ``i`` order by one thread, the summation order is the same for any
-  thread count (bit-identical results on 1 and 2 threads). ~1.5x faster than
-  the per-element version on one thread (BENCHMARKS.md).
+  processed in blocks of ``BLOCK`` = 8 elements, one element per SIMD lane.
+  The block's nodes and element state are copied into one flat scratch
+  array (structure of arrays, every quantity at a compile-time offset, so
+  LLVM proves the lane loops alias-free), two call- and branch-free lane
+  loops compute everything but the plastic return (they compile to packed
+  AVX-512 instructions), the Johnson-Cook return runs as a scalar loop over
+  the yielding lanes only, and the nodal scatter adds each node's two
+  contributions of the block in a fixed order. The 8-corner sums and the
+  nodal forces use the tensor-product (Walsh-Hadamard) structure of the
+  signs ``xi, eta, zeta, xi eta, ...``: 23 additions per component instead
+  of 56 multiply-adds. Rows are coloured by the parity of ``(j, k)`` (4
+  colours): rows of one colour share no node, so the scatter is race-free
+  under ``prange`` and, each row being done in ``i`` order by one thread,
+  the summation order is the same for any thread count (bit-identical
+  results on 1 and 2 threads). ~3x faster than the per-element version on
+  one thread when elastic (BENCHMARKS.md section 1).
 * :func:`element_pass`: one element at a time in 8 colours (parity of
   ``i, j, k``); the reference implementation.
 """
@@ -458,12 +467,11 @@ element_pass_parallel = jit(_element_pass_parallel, parallel=True)
 
 
 # ---------------------------------------------------------------------------
-# Blocked variant: the same element, B consecutive elements of a row at a time
-# with the per-element arithmetic in loops over the block that LLVM can
-# vectorise (structure-of-arrays scratch), the plastic return and the nodal
-# scatter in scalar loops. Rows are coloured by (j, k) parity (4 colours):
-# rows of one colour share no node, each row is done by one thread in i
-# order, so the summation order is fixed for any thread count.
+# Blocked variant: the same element, BLOCK consecutive elements of a row at a
+# time, one per SIMD lane (see the module docstring). Rows are coloured by
+# (j, k) parity (4 colours): rows of one colour share no node, each row is
+# done by one thread in i order, so the summation order is fixed for any
+# thread count.
 # ---------------------------------------------------------------------------
 
 BLOCK = 8
