@@ -583,7 +583,12 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
     nnxy = nnx * nny
     hdt = 0.5 * dt
     r8 = 0.125
-    w = np.zeros(_NSCR)
+    # every slot is written before it is read (checked by filling it with NaN),
+    # except the force slots FLO[B] and FHI[0] zeroed here: no memset per row
+    w = np.empty(_NSCR)
+    for c in range(12):  # node m = B has no low corner, node 0 of the block no high corner in it
+        w[_FLO + c * _NDS + B] = 0.0
+        w[_FHI + c * _NDS] = 0.0
     mod = mat[M_LAM] + 2.0 * mat[M_MU]
     lam = mat[M_LAM]
     mu = mat[M_MU]
