@@ -47,7 +47,7 @@ tests/fe/test_element.py):
   colours): rows of one colour share no node, so the scatter is race-free
   under ``prange`` and, each row being done in ``i`` order by one thread,
   the summation order is the same for any thread count (bit-identical
-  results on 1 and 2 threads). ~3x faster than the per-element version on
+  results on 1 and 2 threads). ~4x faster than the per-element version on
   one thread when elastic (BENCHMARKS.md section 1).
 * :func:`element_pass`: one element at a time in 8 colours (parity of
   ``i, j, k``); the reference implementation.
