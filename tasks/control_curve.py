@@ -10,7 +10,7 @@ from peenflow.methods import ControlCurve
 from ._common import MM, peening_task, var
 
 
-@peening_task(version="1")
+@peening_task(version="2")
 def control_curve(sat: xr.Dataset, *, interpolation: str = "pchip") -> xr.Dataset:
     """``sat``: saturation results combined over (angle_deg, velocity_m_s).
 
@@ -40,6 +40,12 @@ def control_curve(sat: xr.Dataset, *, interpolation: str = "pchip") -> xr.Datase
             "curve_intensity_mm": var(curves, ("angle_deg", "velocity_fine_m_s"), "mm",
                                       f"{interpolation} interpolant of the control curve"),
             "monotone_increasing": var(increasing, ("angle_deg",), "", "1 if intensity rises with velocity"),
+            "intensity_extrapolated": var(
+                sat.intensity_extrapolated.transpose("angle_deg", "velocity_m_s").values.astype(int),
+                ("angle_deg", "velocity_m_s"), "", "1 if the saturation point lies outside the shot ladder"),
+            "saturation_shots": var(sat.saturation_shots.transpose("angle_deg", "velocity_m_s").values,
+                                    ("angle_deg", "velocity_m_s"), "shots", "saturation point T, eq. (11)"),
+            "largest_shot_count": var(float(sat.shots.values.max()), (), "shots", "end of the saturation ladder"),
         },
         coords={"angle_deg": table.angle_deg.values, "velocity_m_s": v, "velocity_fine_m_s": fine},
         attrs={"interpolation": interpolation},

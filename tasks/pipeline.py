@@ -131,7 +131,8 @@ def build_graph(path) -> Graph:
         given = t.velocity_m_s is not None
         vel = g.add(target_velocity, upstream={} if given else {"control": control}, params={
             "intensity_mm": t.intensity_mm, "angle_deg": t.angle_deg, "rule": t.control_angle_rule,
-            "velocity_m_s": t.velocity_m_s})
+            "velocity_m_s": t.velocity_m_s,
+            "allow_extrapolated": bool(study.almen and study.almen.allow_extrapolated_intensity)})
         imp_t = g.add(single_impact, upstream={"velocity": vel}, stage="target_impact", params={
             "material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg,
             "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(t.rev_thickness_m, IMPACT_BLOCK_D * D)})
@@ -160,7 +161,12 @@ def build_graph(path) -> Graph:
                          params={"material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg},
                          point_params=lambda c: {"seed": study.seeds.seed("target", c["sequence"])})
         measured = read_measured_profile(Path(t.measured_profile_csv)) if t.measured_profile_csv else None
-        g.add(residual_profile, upstream={"runs": runs_t}, params={"measured": measured})
+        # The release is that of a plate peened on one whole face: only when
+        # the REV spans the part's thickness are the resultants the part's.
+        spans = abs(t.rev_thickness_m - t.thickness_mm * 1e-3) < 1e-12
+        free_part = {"thickness_m": t.rev_thickness_m, "young_modulus_Pa": t.material.youngs_modulus_Pa,
+                     "poisson_ratio": t.material.poisson_ratio} if spans else None
+        g.add(residual_profile, upstream={"runs": runs_t}, params={"measured": measured, "free_part": free_part})
 
     ex = study.execution
     g.execution = {k: v for k, v in (("workers", ex.workers), ("threads", ex.threads_per_worker))

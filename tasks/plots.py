@@ -112,8 +112,17 @@ def write_plots(graph, store, out_dir: Path) -> list[Path]:
             s = prof[f"stress_{c}_spread_MPa"].values
             line = ax.plot(z, m, "-", label=f"sigma_{c}")[0]
             ax.fill_between(z, m - s, m + s, color=line.get_color(), alpha=0.2)
+            if f"stress_{c}_free_mean_MPa" in prof:
+                ax.plot(z, prof[f"stress_{c}_free_mean_MPa"].values, "--", color=line.get_color(),
+                        label=f"sigma_{c}, free part")
         if "measured_stress_MPa" in prof:
             ax.plot(prof.measured_depth_m * 1e3, prof.measured_stress_MPa, "ks", label="measured")
+        # On a thick part the peened layer is a small fraction of the depth:
+        # show three times the compressive layer rather than the whole part.
+        mean = prof.stress_xx_mean_MPa.values
+        tensile = np.nonzero(mean > 0)[0]
+        if tensile.size and 3 * z[tensile[0]] < z[-1]:
+            ax.set_xlim(0, 3 * z[tensile[0]])
         ax.axhline(0, color="k", lw=0.5)
         ax.set(xlabel="depth (mm)", ylabel="residual stress (MPa)", title="residual stress (mean +- spread)")
         ax.legend()

@@ -4,12 +4,28 @@
 the mean and spread over sequences; compared with a measured profile when
 the study gives one (interpolated onto the measured depths: difference,
 RMS difference, peak compressive stress and its depth side by side).
+
+The REV is held at its bottom face, so its stresses are those of a part that
+cannot bend. When the REV spans the whole part thickness (a plate peened on
+one face, like the paper's disk) the stage also gives the profile of the
+*free* part: the plate releases its membrane force and bending moment per
+unit width (the plate analogue of eqs. 6-8),
+
+    σ_free(z) = σ(z) - N/H - 12 M (z - H/2) / H³,
+    N = ∫ σ dz,  M = ∫ σ (z - H/2) dz,
+
+per in-plane component (a stress change linear in z is fixed by its two
+resultants, whatever the elastic constants), and the free plate's bow from
+plate bending, κx = 12 (M_x - ν M_y) / (E H³), positive when the peened face
+turns convex (as an Almen strip does; eq. 9 is the beam form, ν = 0).
 """
 
 from __future__ import annotations
 
 import numpy as np
 import xarray as xr
+
+from peenflow.methods import DepthProfile, equilibrium_residual
 
 from ._common import MPA, peening_task, var
 
@@ -19,26 +35,75 @@ def _peak(depth, values):
     return float(values[k]), float(depth[k])
 
 
-@peening_task(version="1")
-def residual_profile(runs: xr.Dataset, *, measured: dict | None = None) -> xr.Dataset:
+def _one_profile(values: np.ndarray) -> np.ndarray:
+    """The first sequence's copy of a per-layer array the runs share."""
+    values = np.asarray(values)
+    return values.reshape(-1, values.shape[-1])[0] if values.ndim > 1 else values
+
+
+def _free_plate(z_edges: np.ndarray, stress: dict, part: dict) -> tuple[dict, dict]:
+    """Release of a plate of thickness H = ``part["thickness_m"]`` (module docstring).
+
+    ``stress``: {"xx": (n_layer,) Pa, "yy": ...} layer values; returns the
+    released layer values (Pa) per component and the bow per component
+    (1/m, positive when the peened face turns convex).
+    """
+    H = part["thickness_m"]
+    E, nu = part["young_modulus_Pa"], part["poisson_ratio"]
+    released, moment, balance = {}, {}, {}
+    for c, s in stress.items():
+        prof = DepthProfile(z_edges, s)
+        force, moment[c] = prof.moments(origin=0.5 * H)
+        free = prof.minus_linear(force / H, 12.0 * moment[c] / H**3, origin=0.5 * H)
+        balance[c] = equilibrium_residual(free, H)
+        # minus_linear returns nodal values at both sides of every layer edge;
+        # the mean of a layer's two ends is its (linear) layer average.
+        released[c] = 0.5 * (free.values[0::2] + free.values[1::2])
+    bow = {"xx": 12.0 * (moment["xx"] - nu * moment["yy"]) / (E * H**3),
+           "yy": 12.0 * (moment["yy"] - nu * moment["xx"]) / (E * H**3)}
+    return released, bow, balance
+
+
+@peening_task(version="2")
+def residual_profile(runs: xr.Dataset, *, measured: dict | None = None, free_part: dict | None = None) -> xr.Dataset:
     """``runs``: target REV results combined over ``sequence``; ``measured``:
-    {"depth_m": [...], "stress_Pa": [...], "component": "xx"} or None."""
-    depth = np.asarray(runs.depth_m.values)
-    if depth.ndim > 1:
-        depth = depth.reshape(-1, depth.shape[-1])[0]
+    {"depth_m": [...], "stress_Pa": [...], "component": "xx"} or None;
+    ``free_part``: {"thickness_m", "young_modulus_Pa", "poisson_ratio"} when
+    the REV spans the part's thickness (adds the released profile and bow),
+    else None."""
+    depth = _one_profile(runs.depth_m.values)
     out = {}
+    means = {}
     for c in ("xx", "yy"):
         s = runs[f"stress_{c}_Pa"].transpose("sequence", "layer").values
+        means[c] = s.mean(axis=0)
         out[f"stress_{c}_MPa"] = var(s / MPA, ("sequence", "layer"), "MPa", f"sigma_{c} per sequence")
-        out[f"stress_{c}_mean_MPa"] = var(s.mean(axis=0) / MPA, ("layer",), "MPa", f"mean sigma_{c}")
+        out[f"stress_{c}_mean_MPa"] = var(means[c] / MPA, ("layer",), "MPa", f"mean sigma_{c}")
         spread = s.std(axis=0, ddof=1) if s.shape[0] > 1 else np.zeros(s.shape[1])
         out[f"stress_{c}_spread_MPa"] = var(spread / MPA, ("layer",), "MPa", "std over sequences")
-        peak, at = _peak(depth, s.mean(axis=0) / MPA)
+        peak, at = _peak(depth, means[c] / MPA)
         out[f"peak_compressive_{c}_MPa"] = var(peak, (), "MPa")
         out[f"peak_compressive_{c}_depth_m"] = var(at, (), "m")
     out["depth_m"] = var(depth, ("layer",), "m", "layer mid-depth below the peened surface")
     coords = {"sequence": runs.sequence.values}
-    attrs = {"measured_profile": "none"}
+    attrs = {"measured_profile": "none", "free_part": "no (the REV is thinner than the part)"}
+    if free_part:
+        z_edges = _one_profile(runs.z_edge_m.values)
+        if abs(z_edges[-1] - free_part["thickness_m"]) > 1e-9:
+            raise ValueError(f"free_part thickness {free_part['thickness_m']} m differs from the REV's "
+                             f"{z_edges[-1]} m: the release needs the whole thickness")
+        released, bow, balance = _free_plate(z_edges, means, free_part)
+        for c in ("xx", "yy"):
+            out[f"stress_{c}_free_mean_MPa"] = var(
+                released[c] / MPA, ("layer",), "MPa",
+                f"mean sigma_{c} of the free part (membrane force and bending moment released)")
+            out[f"bow_curvature_{c}_1_per_m"] = var(
+                bow[c], (), "1/m", "curvature of the free part, positive when the peened face is convex")
+            out[f"free_relative_force_{c}"] = var(
+                balance[c].relative_force, (), "1", "|∫σ dz| / ∫|σ| dz of the free part (0 = equilibrium)")
+            out[f"free_relative_moment_{c}"] = var(
+                balance[c].relative_moment, (), "1", "|∫σ (z-H/2) dz| / ∫|σ||z-H/2| dz of the free part")
+        attrs["free_part"] = f"plate {free_part['thickness_m'] * 1e3:g} mm thick, released"
     if measured:
         comp = measured.get("component", "xx")
         md = np.asarray(measured["depth_m"], dtype=float)

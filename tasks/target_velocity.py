@@ -5,6 +5,11 @@ target intensity -- at the computed angle nearest the part's impingement
 angle (the paper uses its 67.5° curve for 65°), or interpolated linearly
 between the two bracketing angles.  A study may instead give the velocity
 directly (then there is no control curve upstream).
+
+The two control-curve points that bracket the target must be saturated
+within their shot ladder (eq. 11's T at most the largest N): an intensity
+whose saturation point is extrapolated depends on the fit's tail, not on
+data, so it stops the run with the ladder to use unless the study allows it.
 """
 
 from __future__ import annotations
@@ -13,6 +18,7 @@ import numpy as np
 import xarray as xr
 
 from peenflow.methods import ControlCurve, ControlCurveFamily
+from peenflow.methods.control_curve import AngleBlend
 
 from ._common import MM, peening_task, var
 
@@ -21,9 +27,38 @@ class IntensityOutOfRange(ValueError):
     pass
 
 
-@peening_task(version="1")
+class ExtrapolatedIntensity(ValueError):
+    """A control-curve point the velocity would be read from is not saturated within its ladder."""
+
+
+def _check_saturated(control: xr.Dataset, angles, velocities) -> None:
+    """Refuse intensities whose eq. (11) saturation point lies beyond the ladder (module docstring)."""
+    if "intensity_extrapolated" not in control:
+        return
+    bad = []
+    for a in angles:
+        for v in velocities:
+            point = control.sel(angle_deg=a, velocity_m_s=v)
+            if int(point.intensity_extrapolated):
+                bad.append(f"{v:g} m/s at {a:g} deg: T = {float(point.saturation_shots):.0f} shots")
+    if bad:
+        n_max = float(control.largest_shot_count)
+        t_max = max(float(control.saturation_shots.sel(angle_deg=a, velocity_m_s=v))
+                    for a in angles for v in velocities)
+        suggest = int(2 ** np.ceil(np.log2(max(2 * t_max, 2 * n_max))))
+        raise ExtrapolatedIntensity(
+            f"the control curve is not saturated where the target intensity is read: {'; '.join(bad)} "
+            f"(largest shot count {n_max:.0f}). An intensity extrapolated beyond the ladder is not an Almen "
+            f"intensity (SAE J2597 needs a point at 2 T). Extend almen.shot_counts to about {suggest} shots "
+            "(the strip runs then restart from scratch for the new ladder), or set "
+            "almen.allow_extrapolated_intensity = true to accept it."
+        )
+
+
+@peening_task(version="2")
 def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | None,
-                    angle_deg: float, rule: str = "nearest", velocity_m_s: float | None = None) -> xr.Dataset:
+                    angle_deg: float, rule: str = "nearest", velocity_m_s: float | None = None,
+                    allow_extrapolated: bool = False) -> xr.Dataset:
     if velocity_m_s is not None:
         return xr.Dataset({"velocity_m_s": var(velocity_m_s, (), "m/s", "given in the study")},
                           attrs={"method": "given"})
@@ -47,6 +82,12 @@ def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | 
             "almen.velocities_m_s that bracket it"
         )
     v = float(curve.velocity(target))
+    if not allow_extrapolated:
+        blended = isinstance(curve, AngleBlend)
+        used = (curve.lower.angle_deg, curve.upper.angle_deg) if blended else (curve.angle_deg,)
+        grid = control.velocity_m_s.values.astype(float)
+        bracket = sorted({float(grid[grid <= v].max()), float(grid[grid >= v].min())})
+        _check_saturated(control, used, bracket)
     return xr.Dataset(
         {"velocity_m_s": var(v, (), "m/s", "velocity giving the target intensity on the control curve"),
          "intensity_mm": var(intensity_mm, (), "mm", "target Almen intensity")},

@@ -32,7 +32,7 @@ def add_execution(p) -> None:
     p.add_argument("--dry-run", action="store_true", help="show what would be computed, and why")
     p.add_argument("--workers", type=positive_int, default=None, help="parallel points (default: all cores)")
     p.add_argument("--threads", type=positive_int, default=None,
-                   help="compute threads per point (default: cores // workers)")
+                   help="compute threads per point (default: all cores for a lone point, cores // workers for a sweep, never more than the cores in all)")
     p.add_argument("--scheduler", metavar="ADDR", default=None,
                    help="dask.distributed scheduler, e.g. tcp://host:8786 (store must be shared)")
     p.add_argument("--quiet", action="store_true", help="only the summary")

@@ -20,20 +20,35 @@ class TaskContext:
 
     Attributes: ``key`` (result key), ``point`` (e.g. ``strip_runs[angle_deg=45]``),
     ``threads`` (compute threads this task may use without oversubscribing the
-    machine), ``resumed`` (True when a checkpoint was found at start).
+    machine; the first read draws them from the run's core budget, see
+    cores.py), ``resumed`` (True when a checkpoint was found at start).
     """
 
     PROGRESS_INTERVAL_S = 1.0
 
-    def __init__(self, store, key: str, point: str, study: str, threads: int):
+    def __init__(self, store, key: str, point: str, study: str, threads: int, budget=None):
         self.key = key
         self.point = point
         self.study = study
-        self.threads = threads
+        self._wanted = threads
+        self._budget = budget
+        self.granted: int | None = None  # threads handed out, once asked for
         self._store = store
         self._checkpoints = Checkpoints(store.checkpoint_dir(key))
         self._last_progress = 0.0
         self.resumed = self._checkpoints.exists()
+
+    @property
+    def threads(self) -> int:
+        if self.granted is None:
+            self.granted = self._budget.acquire(self._wanted) if self._budget is not None else self._wanted
+        return self.granted
+
+    def release_threads(self) -> None:
+        """Give granted threads back to the budget (the runner calls it when the task ends)."""
+        if self.granted is not None and self._budget is not None:
+            self._budget.release(self.granted)
+            self._budget = None
 
     def progress(self, done: float, total: float | None = None, unit: str = "", note: str = "") -> None:
         """Report progress (throttled to about once a second; the last call always lands)."""

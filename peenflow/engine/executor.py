@@ -2,8 +2,11 @@
 
 * Local (default): dask's threaded scheduler, no server.  The numba kernels
   release the GIL, so threads give real parallelism without pickling large
-  arrays; each point is told how many compute threads it may use
-  (``cores // workers``) so kernel threads x workers never oversubscribe.
+  arrays.  Each point asks for ``cores // min(workers, points of its stage)``
+  compute threads (all cores for a lone point, one each for a wide sweep) and
+  draws them from the process's :class:`~.cores.CoreBudget` when it first
+  reads ``ctx.threads``, so kernel threads never exceed the cores.  ``threads=N`` fixes
+  every point's count instead (no budget: the user's choice).
 * ``scheduler="tcp://HOST:PORT"``: the same graph on a running
   dask.distributed cluster; the store must be on a path every worker sees.
   Workers import the task modules by name, so the project must be installed
@@ -19,6 +22,7 @@ import os
 import threading
 from pathlib import Path
 
+from .cores import CoreBudget, set_active_budget, wanted_threads
 from .graph import Graph, Group, Node
 from .report import Reporter
 from .runner import Outcome, PointSpec, UpstreamRef, run_node
@@ -33,7 +37,8 @@ def available_cores() -> int:
 
 
 def point_specs(graph: Graph, nodes: list[Node], store: DirectoryStore, forced: set[str],
-                threads: int) -> dict[str, tuple[PointSpec, list[str]]]:
+                threads: int | dict[str, int]) -> dict[str, tuple[PointSpec, list[str]]]:
+    """Specs of ``nodes``; ``threads``: one count for all, or per stage."""
     out = {}
     for node in nodes:
         ups: list[Node] = []
@@ -47,7 +52,8 @@ def point_specs(graph: Graph, nodes: list[Node], store: DirectoryStore, forced: 
             task_module=node.task.module, task_qualname=node.task.qualname, task_name=node.task.name,
             stage=node.stage, node_id=node.node_id, label=node.label, coords=dict(node.coords),
             params=node.params, upstream=refs, store_root=str(store.root), study=graph.name,
-            forced=node.node_id in forced, threads=threads,
+            forced=node.node_id in forced,
+            threads=threads[node.stage] if isinstance(threads, dict) else threads,
         )
         out[node.node_id] = (spec, [u.node_id for u in ups])
     return out
@@ -84,9 +90,12 @@ def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: s
     reporter = reporter or Reporter()
     Path(store.root).mkdir(parents=True, exist_ok=True)
     cores = available_cores()
+    budget = None
     if scheduler is None:
         workers = max(1, workers or cores)
-        threads = threads or max(1, cores // workers)
+        if not threads:
+            threads = wanted_threads([n.stage for n in nodes], cores, workers)
+            budget = CoreBudget(max(cores, workers))
     else:
         threads = threads or 1
     reporter.expect(nodes)
@@ -97,7 +106,11 @@ def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: s
     monitor.start()
     try:
         if scheduler is None:
-            outcomes = _run_local(dsk, keys, workers, reporter)
+            set_active_budget(budget)
+            try:
+                outcomes = _run_local(dsk, keys, workers, reporter)
+            finally:
+                set_active_budget(None)
         else:
             outcomes = _run_distributed(dsk, keys, scheduler, reporter)
     finally:

@@ -24,6 +24,7 @@ import xarray as xr
 from .canonical import canonical_json
 from .combine import combine_points
 from .context import TaskContext
+from .cores import active_budget
 from .keys import KeyParts, reason_against_slot
 from .lease import STALE_AFTER_S
 from .reasons import Reason
@@ -198,9 +199,18 @@ def _record_slot(store, spec, parts: KeyParts, state: str, source_hash: str, **e
 
 
 def _compute(task, store, spec, ups, parts: KeyParts, reason, detail, upstream_keys) -> Outcome:
+    # Threads come from the process's core budget when the task first reads
+    # ctx.threads (see cores.py); a distributed worker has no budget.
+    ctx = TaskContext(store, parts.key, spec.node_id, spec.study, spec.threads, active_budget())
+    try:
+        return _compute_in(ctx, task, store, spec, ups, parts, reason, detail, upstream_keys)
+    finally:
+        ctx.release_threads()
+
+
+def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, upstream_keys) -> Outcome:
     key = parts.key
     source_hash = task.source_hash()
-    ctx = TaskContext(store, key, spec.node_id, spec.study, spec.threads)
     if ctx.resumed and reason is not Reason.FORCED:
         reason, detail = Reason.INCOMPLETE, "resuming from checkpoint"
     elif reason is Reason.FORCED:
@@ -234,6 +244,7 @@ def _compute(task, store, spec, ups, parts: KeyParts, reason, detail, upstream_k
             "peenflow_host": socket.gethostname(),
             "peenflow_pid": os.getpid(),
             "peenflow_resumed": int(ctx.resumed),
+            "peenflow_threads": ctx.granted or 0,
         })
         manifest = store.write_result(task.name, key, result, parts.to_dict(), source_hash,
                                       replace=spec.forced)

@@ -18,7 +18,8 @@ Event-driven time (one shot at a time, in the given order):
    ``KE_window <= rest_ke_fraction * E_impact`` AND
    ``max |v| <= rest_v_fraction * |v_shot|``. The shot is then discarded.
 4. At each count in ``snapshot_after`` and at the end, a COPY of the state is
-   relaxed over the whole mesh (:mod:`peenflow.fe.relaxation`) and stored.
+   brought to static equilibrium over the whole mesh
+   (:mod:`peenflow.fe.relaxation`) and stored.
 
 The estimated contact radius is the larger of the Hertz radius and Johnson's
 fully plastic radius (mean pressure ``3 A``) at the shot's normal speed
@@ -28,7 +29,8 @@ Measured window error (BENCHMARKS.md, strip REV, 25 um, 55 m/s): dent depth
 +1.7 %, restitution +3 % (-> +0.2 % with ``window_sponge=0.3``), averaged
 sigma_x profile 3-4 % (max abs difference / max abs value), for 48x less
 work per impact. The global relaxation before reading a profile is
-mandatory: the measuring region is wider than a window.
+mandatory: the measuring region is wider than a window (static relaxation,
+~10 s on the strip REV, ~9x less than dynamic relaxation).
 """
 
 from __future__ import annotations
@@ -69,10 +71,21 @@ class Options:
     sponge_damping : its peak damping rate, x c_dilatational / layer thickness.
     settle_damping : damping factor for settling after each impact (x pi c_s / L).
     rest_ke_fraction, rest_v_fraction : "at rest" after an impact (x impact energy / speed).
-    relax_damping, relax_ke_fraction, relax_v_fraction : same for global
-      relaxations (defaults: KE <= 1e-7 x the largest impact energy, max
-      speed <= 1e-4 x the largest shot speed; 10x stricter changes the
-      averaged residual profile by < 0.1 %, BENCHMARKS.md).
+    relax_method : global relaxation (snapshots, end): "static" (default:
+      multigrid-preconditioned defect correction on the true forces,
+      :mod:`peenflow.fe.relaxation`; ~10x cheaper on the strip REV) or
+      "dynamic" (damped dynamic relaxation; used anyway when the bottom is
+      not fixed, or when the static loop does not converge).
+    relax_ke_fraction : "at rest" for global relaxations, x the largest
+      impact energy: static -- estimated elastic energy of the remaining force
+      imbalance (1/2 r . K^-1 r); dynamic -- kinetic energy. Default 1e-7:
+      averaged residual profile within 0.04 % of its peak of a strict
+      reference either way (BENCHMARKS.md).
+    relax_cg_rtol, relax_max_outer : static method: relative residual of each
+      linear (CG + multigrid) solve, most corrections before falling back to
+      dynamic relaxation.
+    relax_damping, relax_v_fraction : dynamic method: damping factor (x pi
+      c_s / L), max speed <= relax_v_fraction x the largest shot speed.
     lead_steps : the shot starts this many stable steps before touching.
     final_relaxation : relax the whole mesh after the last shot (False: the
       result fields are the unrelaxed final state; for timing and callers
@@ -99,9 +112,12 @@ class Options:
     settle_damping: float = 1.0
     rest_ke_fraction: float = 1e-6
     rest_v_fraction: float = 1e-4
+    relax_method: str = "static"
     relax_damping: float = 1.0
     relax_ke_fraction: float = 1e-7
     relax_v_fraction: float = 1e-4
+    relax_cg_rtol: float = 1e-2
+    relax_max_outer: int = 20
     lead_steps: int = 2
     final_relaxation: bool = True
     threads: int = 1
@@ -120,6 +136,8 @@ class Options:
                 f"precision={self.precision!r}: only 'float64' is implemented. float32 state was measured "
                 "(BENCHMARKS.md section 1: ~19 % less CPU per impact, residual stresses within 1e-5) but not "
                 "adopted: it needs a dtype-generic solver and a second, uncached copy of the element kernel")
+        if self.relax_method not in ("static", "dynamic"):
+            raise ValueError("relax_method must be 'static' or 'dynamic'")
         if self.threads < 1:
             raise ValueError("threads must be >= 1")
 

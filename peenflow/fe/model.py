@@ -21,6 +21,9 @@ from peenflow.fe.safety import check_status
 from peenflow.fe.state import KernelState
 
 
+_MULTIGRID_CACHE: dict = {}
+
+
 @dataclass(frozen=True)
 class Target:
     """The target: a structured mesh and its boundary conditions.
@@ -63,6 +66,23 @@ class Model:
         self.nx, self.ny, self.nz = mesh.shape_elements
         self.cand = np.zeros(self.nnx * self.nny, dtype=np.int64)
         self.dn = np.zeros((self.nnx * self.nny, 4))
+        self._multigrid = None
+
+    def multigrid(self):
+        """The multigrid hierarchy of the static relaxation (built on first use,
+        then kept; shared by models with the same mesh, fixities and material)."""
+        if self._multigrid is None:
+            from peenflow.fe.multigrid import Multigrid
+
+            key = tuple(np.ascontiguousarray(a).tobytes() for a in (self.mesh.x, self.mesh.y, self.mesh.z, self.bc,
+                                                                    self.mat_static))
+            mg = _MULTIGRID_CACHE.get(key)
+            if mg is None:
+                mg = Multigrid(self.mesh, self.bc, self.mat_static)
+                _MULTIGRID_CACHE.clear()  # keep one: a hierarchy of the strip REV is ~100 MB
+                _MULTIGRID_CACHE[key] = mg
+            self._multigrid = mg
+        return self._multigrid
 
     def new_state(self) -> KernelState:
         m = self.material

@@ -11,7 +11,7 @@ from __future__ import annotations
 import hashlib
 from typing import Annotated, Any, Literal, Optional
 
-from pydantic import AfterValidator, Field, PrivateAttr, model_validator
+from pydantic import AfterValidator, Field, PrivateAttr, StrictBool, model_validator
 
 from .intensity import parse_intensity
 from .items import Material, Shot, Strip
@@ -111,6 +111,10 @@ class Almen(ShotScaled):
     )
     interpolation: Literal["pchip", "linear"] = Field(
         "pchip", description='control-curve interpolation: "pchip" (monotone cubic) or "linear"'
+    )
+    allow_extrapolated_intensity: StrictBool = Field(
+        False, description="read a velocity off control-curve points whose saturation point (eq. 11) lies "
+                           "beyond the largest shot count (an extrapolated intensity); off by default"
     )
 
     _fill_rule = model_validator(mode="before")(_rev_rule_default)

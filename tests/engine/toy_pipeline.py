@@ -2,11 +2,14 @@
 
 source(n) -> scale[factor] (swept) -> total (combined over factor)
 counter(steps): a long task that checkpoints after every step.
+probe: a sweep of points, then one lone point after them, that record the compute
+threads they were given and the threads in use meanwhile (``build_probe``).
 """
 
 from __future__ import annotations
 
 import os
+import threading
 import time
 import tomllib
 
@@ -70,4 +73,34 @@ def build(path) -> Graph:
                      params={"delay_s": toy.get("delay_s", 0.0)})
     g.add(total, upstream={"scaled": scaled})
     g.add(counter, params={"steps": toy.get("steps", 3), "delay_s": toy.get("counter_delay_s", 0.0)})
+    return g
+
+
+# Threads granted to the probe points now running in this process.
+_in_use = {"now": 0, "peak": 0}
+_in_use_lock = threading.Lock()
+
+
+@task()
+def probe(after: xr.Dataset | None = None, *, member: int, hold_s: float, ctx) -> xr.Dataset:
+    threads = ctx.threads  # may wait for the budget: never while holding our lock
+    with _in_use_lock:
+        _in_use["now"] += threads
+        _in_use["peak"] = max(_in_use["peak"], _in_use["now"])
+    time.sleep(hold_s)
+    with _in_use_lock:
+        peak = _in_use["peak"]
+        _in_use["now"] -= threads
+    return xr.Dataset({"threads": ((), threads), "peak_threads_in_use": ((), peak)})
+
+
+def build_probe(path) -> Graph:
+    with open(path, "rb") as f:
+        cfg = tomllib.load(f)
+    toy = cfg["toy"]
+    g = Graph(cfg["study"]["name"])
+    wide = g.sweep(probe, dims={"member": list(range(toy["members"]))}, stage="wide",
+                   params={"hold_s": toy["hold_s"]})
+    g.add(probe, stage="lone", upstream={"after": wide} if toy.get("lone_after_wide", True) else {},
+          params={"member": -1, "hold_s": toy["hold_s"]})
     return g

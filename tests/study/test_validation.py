@@ -28,6 +28,8 @@ CASES = [
     ("int-as-string", {"almen.sequences": "6"}, ['almen.sequences = "6": expected an integer, got a string']),
     ("float-as-string", {"target.thickness_mm": "9.5"}, ['target.thickness_mm = "9.5": expected a number, got a string']),
     ("bool-as-number", {"shot.friction_coefficient": True}, ["shot.friction_coefficient = true: expected a number"]),
+    ("string-as-bool", {"almen.allow_extrapolated_intensity": "yes"},
+     ['almen.allow_extrapolated_intensity = "yes": expected true or false']),
     ("scalar-for-list", {"almen.velocities_m_s": 55.0}, ["almen.velocities_m_s = 55.0: expected a list"]),
     ("float-for-int", {"almen.shot_counts": [10, 20.5, 40]}, ["almen.shot_counts[1] = 20.5: expected an integer"]),
     ("table-for-scalar", {"target.angle_deg": {"value": 65.0}}, ["target.angle_deg: expected a number, got a table"]),

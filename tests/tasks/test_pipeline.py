@@ -83,6 +83,22 @@ def test_target_chain_dent_coverage_and_profile(micro):
     assert float(prof.stress_xx_mean_MPa[0]) < -50  # compressive at the surface
 
 
+def test_free_part_release_is_self_equilibrated_and_bows_the_peened_face_convex(micro):
+    """The micro REV spans its 1 mm part: the free-plate release must leave zero
+    net force and moment, differ from the held profile by a stress linear in
+    depth, and bow the part convex on the peened face (compressive skin)."""
+    prof = peenflow.open_result(micro, "residual_profile")
+    assert prof.attrs["free_part"].startswith("plate 1 mm")
+    z = prof.depth_m.values
+    for c in ("xx", "yy"):
+        assert float(prof[f"free_relative_force_{c}"]) < 1e-9
+        assert float(prof[f"free_relative_moment_{c}"]) < 1e-9
+        change = (prof[f"stress_{c}_mean_MPa"] - prof[f"stress_{c}_free_mean_MPa"]).values
+        line = np.polyval(np.polyfit(z, change, 1), z)
+        assert np.max(np.abs(change - line)) < 1e-9 * np.max(np.abs(prof[f"stress_{c}_mean_MPa"].values))
+        assert float(prof[f"bow_curvature_{c}_1_per_m"]) > 0
+
+
 def test_rerun_after_finishing_computes_nothing(micro):
     out = peenflow_cli("run", micro).stdout
     assert "+ computed" not in out and out.count("= reused") >= 10

@@ -1,0 +1,497 @@
+"""Geometric multigrid for the linear elastic correction on the structured box mesh.
+
+Used by the static global relaxation (:mod:`peenflow.fe.relaxation`) as an
+approximate inverse of the target's stiffness: ``solve(r) ~= K^-1 r`` for a
+nodal force imbalance ``r`` (n_nodes, 3) N, returning a displacement
+correction (n_nodes, 3) m. The relaxation itself always evaluates the true
+nonlinear forces with the solver's element pass; this module only has to be a
+good *preconditioner*, so it works on the undeformed (reference) box
+geometry and linear elasticity.
+
+Levels. Level 0 is the mesh: a tensor grid of axis-aligned box elements
+(``BoxMesh``). Each coarser level keeps a subset of the nodes along each
+axis, so coarse nodes are fine nodes and the boundary conditions carry over
+node by node: consecutive intervals are merged in pairs as long as the pair
+is no longer than twice the largest median spacing of the three axes
+(:func:`_coarse_indices`). A graded axis is therefore only coarsened where
+its elements are thin: the deep graded layers (25 um wide, up to 170 um
+tall) are kept until the lateral spacing has caught up, which keeps the
+coarse elements near-cubic (point smoothers fail on strongly anisotropic
+elements; plain every-other-node coarsening stalled CG at 200 iterations on
+the strip REV). Coarsening stops at <= ``COARSEST_NODES`` nodes, solved
+exactly (dense inverse).
+
+Element stiffness. Every level uses the solver's own element (one-point
+hexahedron + Flanagan-Belytschko stiffness hourglass control, same
+``mat`` vector), its 24 x 24 matrix *probed* from
+:func:`peenflow.fe.element.element_rows` on a single box element (unit
+displacement of each of the 24 dofs, tiny amplitude, huge step so bulk
+viscosity vanishes), so level 0 is exactly the tangent of the solver's
+element at the reference geometry, whatever the element's internal
+conventions. A tensor grid has few distinct element sizes (``hx``, ``hy``,
+``hz`` per axis), so one matrix per distinct (hx, hy, hz) is stored.
+
+Cycle. Symmetric V-cycle: Chebyshev smoothing (polynomial in D^-1 K over
+``[lambda_max / CHEB_RATIO, 1.1 lambda_max]``, ``lambda_max`` by power
+iteration) before and after the coarse correction, trilinear prolongation,
+restriction = its transpose. As a preconditioner for conjugate gradients
+(:func:`pcg`) it is symmetric positive definite.
+
+All loops are serial and in a fixed order: results do not depend on the
+numba thread count.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from peenflow._jit import jit
+from peenflow.fe.element import element_rows
+
+COARSEST_NODES = 600
+CHEB_DEGREE = 2
+CHEB_RATIO = 15.0
+POWER_ITERATIONS = 30
+
+# local node order of the solver's element (offsets from the first node)
+_LOCAL = ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1))
+
+
+def element_matrix(hx: float, hy: float, hz: float, mat: np.ndarray) -> np.ndarray:
+    """24 x 24 stiffness (N/m) of the solver's element for an ``hx x hy x hz`` box.
+
+    Dof order: local node I (solver order) x 3 components. Probed with the
+    element pass: each column is ``-f / a`` for a displacement ``a`` of one
+    dof applied over a step of 1 s (bulk viscosity ~ rate -> negligible),
+    central difference over +-a; elastic (huge flow stress). Symmetrised.
+    """
+    X = np.array([[i * hx, j * hy, k * hz] for k in (0, 1) for j in (0, 1) for i in (0, 1)], dtype=np.float64)
+    glob = [i + 2 * (j + 2 * k) for (i, j, k) in _LOCAL]
+    a = 1e-6 * min(hx, hy, hz)
+    K = np.zeros((24, 24))
+    for d in range(24):
+        node, comp = glob[d // 3], d % 3
+        for sign in (1.0, -1.0):  # central difference: error ~ (a / h)^2
+            x = X.copy()
+            v = np.zeros((8, 3))
+            x[node, comp] += sign * a
+            v[node, comp] = sign * a  # over dt = 1 s
+            f = np.zeros((8, 3))
+            element_rows(x, v, f, np.zeros((1, 6)), np.zeros(1), np.full(1, 1e300), np.zeros((1, 12)),
+                         np.full(1, 293.0), np.full(1, hx * hy * hz), mat, 1.0, 2, 2, 1, 1, 0, 1, 0, 1, 0, 1)
+            K[:, d] -= sign * f[glob].ravel() / (2.0 * a)
+    return 0.5 * (K + K.T)
+
+
+def _unique_spacing(axis: np.ndarray):
+    """(type index per interval, distinct spacings) with a relative tolerance of 1e-9."""
+    h = np.diff(axis)
+    vals: list[float] = []
+    idx = np.empty(len(h), dtype=np.int64)
+    for n, s in enumerate(h):
+        for t, u in enumerate(vals):
+            if abs(s - u) <= 1e-9 * u:
+                idx[n] = t
+                break
+        else:
+            idx[n] = len(vals)
+            vals.append(float(s))
+    return idx, np.array(vals)
+
+
+def _pairs(h: np.ndarray, target: float) -> list:
+    """Group sizes (1, 2 or 3) for intervals ``h`` taken in order: pairs while
+    the pair is no longer than ``target``; a single interval left at the end
+    after a pair joins it if the three stay below 1.5 ``target``."""
+    groups = []
+    i = 0
+    while i < len(h):
+        if i + 1 < len(h) and h[i] + h[i + 1] <= target * (1 + 1e-9):
+            groups.append(2)
+            i += 2
+        else:
+            groups.append(1)
+            i += 1
+    if len(groups) >= 2 and groups[-1] == 1 and groups[-2] == 2 and h[-3:].sum() <= 1.5 * target:
+        groups[-2:] = [3]
+    return groups
+
+
+def _coarse_indices(axis: np.ndarray, target: float) -> np.ndarray:
+    """Nodes of an axis kept on the next level (see :func:`_pairs`).
+
+    An axis symmetric about its midpoint is grouped from both ends towards
+    the middle, so the hierarchy keeps the mesh's mirror symmetry (a centred
+    impact then relaxes to a mirror-symmetric field to round-off)."""
+    h = np.diff(axis)
+    n = len(h)
+    if np.allclose(h, h[::-1], rtol=1e-9, atol=0.0):
+        half = n // 2
+        left = _pairs(h[:half], target)
+        groups = left + ([1] if n % 2 else []) + left[::-1]
+    else:
+        groups = _pairs(h, target)
+    return np.concatenate([[0], np.cumsum(groups)]).astype(np.int64)
+
+
+def _interp(fine: np.ndarray, coarse: np.ndarray):
+    """Linear interpolation on an axis: fine node -> (c0, c1, weight of c1)."""
+    c1 = np.clip(np.searchsorted(coarse, fine, side="left"), 1, len(coarse) - 1)
+    c0 = c1 - 1
+    w = (fine - coarse[c0]) / (coarse[c1] - coarse[c0])
+    w = np.where(np.abs(w) < 1e-12, 0.0, np.where(np.abs(w - 1.0) < 1e-12, 1.0, w))
+    return c0.astype(np.int64), c1.astype(np.int64), w
+
+
+@jit
+def apply_k(u, out, ke, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
+    """``out = K u`` (N) for the box-element grid; zero at fixed dofs (``bc`` bits)."""
+    nnxy = nnx * nny
+    out[:, :] = 0.0
+    ul = np.empty(24)
+    fl = np.empty(24)
+    offs = (0, 1, 1 + nnx, nnx, nnxy, nnxy + 1, nnxy + 1 + nnx, nnxy + nnx)
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                n0 = i + nnx * (j + nny * k)
+                for I in range(8):
+                    n = n0 + offs[I]
+                    ul[3 * I] = u[n, 0]
+                    ul[3 * I + 1] = u[n, 1]
+                    ul[3 * I + 2] = u[n, 2]
+                K = ke[tx[i], ty[j], tz[k]]
+                for a in range(24):
+                    fl[a] = 0.0
+                for b in range(24):
+                    ub = ul[b]
+                    for a in range(24):
+                        fl[a] += K[b, a] * ub
+                for I in range(8):
+                    n = n0 + offs[I]
+                    out[n, 0] += fl[3 * I]
+                    out[n, 1] += fl[3 * I + 1]
+                    out[n, 2] += fl[3 * I + 2]
+    for n in range(out.shape[0]):
+        b = bc[n]
+        for c in range(3):
+            if b & (1 << c):
+                out[n, c] = 0.0
+
+
+@jit
+def _diagonal(ke, tx, ty, tz, nnx, nny, nx, ny, nz, bc, d):
+    nnxy = nnx * nny
+    offs = (0, 1, 1 + nnx, nnx, nnxy, nnxy + 1, nnxy + 1 + nnx, nnxy + nnx)
+    d[:, :] = 0.0
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                n0 = i + nnx * (j + nny * k)
+                K = ke[tx[i], ty[j], tz[k]]
+                for I in range(8):
+                    for c in range(3):
+                        d[n0 + offs[I], c] += K[3 * I + c, 3 * I + c]
+    for n in range(d.shape[0]):
+        for c in range(3):
+            if bc[n] & (1 << c):
+                d[n, c] = 0.0
+            else:
+                d[n, c] = 1.0 / d[n, c]
+
+
+@jit
+def _prolong_add(uc, uf, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nncx, nncy, bc):
+    """``uf += P uc`` (trilinear on the tensor grid); fixed dofs untouched."""
+    nfx = cx0.shape[0]
+    nfy = cy0.shape[0]
+    nfz = cz0.shape[0]
+    for k in range(nfz):
+        for j in range(nfy):
+            for i in range(nfx):
+                n = i + nfx * (j + nfy * k)
+                s0 = 0.0
+                s1 = 0.0
+                s2 = 0.0
+                for kk in range(2):
+                    ck = cz1[k] if kk else cz0[k]
+                    wk = wz[k] if kk else 1.0 - wz[k]
+                    if wk == 0.0:
+                        continue
+                    for jj in range(2):
+                        cj = cy1[j] if jj else cy0[j]
+                        wj = wy[j] if jj else 1.0 - wy[j]
+                        if wj == 0.0:
+                            continue
+                        for ii in range(2):
+                            ci = cx1[i] if ii else cx0[i]
+                            wi = wx[i] if ii else 1.0 - wx[i]
+                            if wi == 0.0:
+                                continue
+                            w = wi * wj * wk
+                            m = ci + nncx * (cj + nncy * ck)
+                            s0 += w * uc[m, 0]
+                            s1 += w * uc[m, 1]
+                            s2 += w * uc[m, 2]
+                b = bc[n]
+                if not (b & 1):
+                    uf[n, 0] += s0
+                if not (b & 2):
+                    uf[n, 1] += s1
+                if not (b & 4):
+                    uf[n, 2] += s2
+
+
+@jit
+def _restrict(rf, rc, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nncx, nncy, bcc):
+    """``rc = P^T rf``; zero at the coarse level's fixed dofs."""
+    nfx = cx0.shape[0]
+    nfy = cy0.shape[0]
+    nfz = cz0.shape[0]
+    rc[:, :] = 0.0
+    for k in range(nfz):
+        for j in range(nfy):
+            for i in range(nfx):
+                n = i + nfx * (j + nfy * k)
+                r0 = rf[n, 0]
+                r1 = rf[n, 1]
+                r2 = rf[n, 2]
+                for kk in range(2):
+                    ck = cz1[k] if kk else cz0[k]
+                    wk = wz[k] if kk else 1.0 - wz[k]
+                    if wk == 0.0:
+                        continue
+                    for jj in range(2):
+                        cj = cy1[j] if jj else cy0[j]
+                        wj = wy[j] if jj else 1.0 - wy[j]
+                        if wj == 0.0:
+                            continue
+                        for ii in range(2):
+                            ci = cx1[i] if ii else cx0[i]
+                            wi = wx[i] if ii else 1.0 - wx[i]
+                            if wi == 0.0:
+                                continue
+                            w = wi * wj * wk
+                            m = ci + nncx * (cj + nncy * ck)
+                            rc[m, 0] += w * r0
+                            rc[m, 1] += w * r1
+                            rc[m, 2] += w * r2
+    for m in range(rc.shape[0]):
+        for c in range(3):
+            if bcc[m] & (1 << c):
+                rc[m, c] = 0.0
+
+
+@jit
+def _cheb_update(d, r, dinv, x, c_old, c_new):
+    """``d = c_old d + c_new D^-1 r;  x += d`` (fused)."""
+    for n in range(d.shape[0]):
+        for c in range(3):
+            dn = c_old * d[n, c] + c_new * dinv[n, c] * r[n, c]
+            d[n, c] = dn
+            x[n, c] += dn
+
+
+@jit
+def _axpy(y, a, x):
+    for n in range(y.shape[0]):
+        for c in range(3):
+            y[n, c] += a * x[n, c]
+
+
+@jit
+def mask_fixed(r, bc):
+    """Zero the fixed dofs (``bc`` bits) of ``r`` (n_nodes, 3) in place."""
+    for n in range(r.shape[0]):
+        b = bc[n]
+        for c in range(3):
+            if b & (1 << c):
+                r[n, c] = 0.0
+
+
+@jit
+def dot(a, b):
+    s = 0.0
+    for n in range(a.shape[0]):
+        for c in range(3):
+            s += a[n, c] * b[n, c]
+    return s
+
+
+@dataclass
+class Level:
+    """One grid level: node axes (m), element tables, fixities, smoother data."""
+
+    axes: tuple
+    nn: tuple
+    ne: tuple
+    types: tuple
+    ke: np.ndarray
+    bc: np.ndarray
+    dinv: np.ndarray
+    lam_max: float = 1.0
+    interp: tuple | None = None  # prolongation from the next coarser level (cx0, cx1, wx, cy0, ...)
+    coarse_inv: np.ndarray | None = None  # dense inverse on the coarsest level
+
+    def apply(self, u, out):
+        apply_k(u, out, self.ke, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
+
+
+class Multigrid:
+    """Hierarchy for a ``BoxMesh`` with node fixities ``bc`` and material vector ``mat``."""
+
+    def __init__(self, mesh, bc: np.ndarray, mat: np.ndarray):
+        axes = (np.asarray(mesh.x, float), np.asarray(mesh.y, float), np.asarray(mesh.z, float))
+        bc3 = np.asarray(bc).reshape(len(axes[2]), len(axes[1]), len(axes[0]))
+        self.levels: list[Level] = []
+        while True:
+            lev = self._level(axes, bc3, mat)
+            self.levels.append(lev)
+            n = lev.nn[0] * lev.nn[1] * lev.nn[2]
+            target = 2.0 * max(float(np.median(np.diff(a))) for a in axes)
+            idx = [_coarse_indices(a, target) for a in axes]
+            if n <= COARSEST_NODES or all(len(i) == len(a) for i, a in zip(idx, axes)):
+                break
+            caxes = tuple(a[i] for a, i in zip(axes, idx))
+            interp = []
+            for a, ca in zip(axes, caxes):
+                interp.extend(_interp(a, ca))
+            lev.interp = tuple(interp)
+            bc3 = bc3[np.ix_(idx[2], idx[1], idx[0])]
+            axes = caxes
+        self._setup_smoothers()
+        self._setup_coarsest()
+
+    @staticmethod
+    def _level(axes, bc3, mat) -> Level:
+        types, spacings = zip(*(_unique_spacing(a) for a in axes))
+        ke = np.zeros((len(spacings[0]), len(spacings[1]), len(spacings[2]), 24, 24))
+        for a, hx in enumerate(spacings[0]):
+            for b, hy in enumerate(spacings[1]):
+                for c, hz in enumerate(spacings[2]):
+                    ke[a, b, c] = element_matrix(hx, hy, hz, mat)
+        nn = tuple(len(a) for a in axes)
+        ne = tuple(n - 1 for n in nn)
+        bc = np.ascontiguousarray(bc3.ravel())
+        dinv = np.zeros((nn[0] * nn[1] * nn[2], 3))
+        _diagonal(ke, *types, nn[0], nn[1], *ne, bc, dinv)
+        return Level(axes, nn, ne, tuple(types), ke, bc, dinv)
+
+    def _setup_smoothers(self):
+        for lev in self.levels[:-1]:
+            n = lev.dinv.shape[0]
+            # deterministic start vector
+            u = np.cos(np.arange(3 * n, dtype=np.float64).reshape(n, 3) * 0.7) * (lev.dinv != 0)
+            ku = np.empty_like(u)
+            lam = 1.0
+            for _ in range(POWER_ITERATIONS):
+                u /= np.sqrt(dot(u, u))
+                lev.apply(u, ku)
+                z = lev.dinv * ku
+                lam = np.sqrt(dot(z, z))
+                u = z
+            lev.lam_max = float(lam)
+
+    def _setup_coarsest(self):
+        lev = self.levels[-1]
+        n = lev.dinv.shape[0]
+        A = np.zeros((3 * n, 3 * n))
+        e = np.zeros((n, 3))
+        out = np.empty((n, 3))
+        for d in range(3 * n):
+            e.flat[d] = 1.0
+            lev.apply(e, out)
+            A[:, d] = out.ravel()
+            e.flat[d] = 0.0
+        fixed = (lev.dinv.ravel() == 0)
+        A[fixed, :] = 0.0
+        A[:, fixed] = 0.0
+        A[fixed, fixed] = 1.0
+        A = 0.5 * (A + A.T)
+        Ainv = np.linalg.inv(A)
+        Ainv[fixed, :] = 0.0
+        Ainv[:, fixed] = 0.0
+        lev.coarse_inv = 0.5 * (Ainv + Ainv.T)
+
+    @property
+    def n_levels(self) -> int:
+        return len(self.levels)
+
+    def _smooth(self, lev: Level, b, x, r, degree, x_zero):
+        """Chebyshev smoothing of ``K x = b``; ``r`` returns ``b - K x``."""
+        hi = 1.15 * lev.lam_max
+        lo = hi / CHEB_RATIO
+        theta = 0.5 * (hi + lo)
+        delta = 0.5 * (hi - lo)
+        sigma = theta / delta
+        rho = 1.0 / sigma
+        kx = np.empty_like(x)
+        if x_zero:
+            r[:] = b
+        else:
+            lev.apply(x, kx)
+            np.subtract(b, kx, out=r)
+        d = np.zeros_like(x)
+        _cheb_update(d, r, lev.dinv, x, 0.0, 1.0 / theta)
+        for _ in range(degree - 1):
+            lev.apply(d, kx)
+            _axpy(r, -1.0, kx)
+            rho_new = 1.0 / (2.0 * sigma - rho)
+            _cheb_update(d, r, lev.dinv, x, rho_new * rho, 2.0 * rho_new / delta)
+            rho = rho_new
+        lev.apply(d, kx)
+        _axpy(r, -1.0, kx)
+
+    def vcycle(self, b: np.ndarray, level: int = 0) -> np.ndarray:
+        """One symmetric V-cycle from ``x = 0``: an SPD approximation of ``K^-1 b``."""
+        lev = self.levels[level]
+        if level == len(self.levels) - 1:
+            return (lev.coarse_inv @ b.ravel()).reshape(b.shape)
+        x = np.zeros_like(b)
+        r = np.empty_like(b)
+        self._smooth(lev, b, x, r, CHEB_DEGREE, True)
+        nxt = self.levels[level + 1]
+        rc = np.empty((nxt.dinv.shape[0], 3))
+        cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz = lev.interp
+        _restrict(r, rc, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nxt.nn[0], nxt.nn[1], nxt.bc)
+        xc = self.vcycle(rc, level + 1)
+        _prolong_add(xc, x, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nxt.nn[0], nxt.nn[1], lev.bc)
+        self._smooth(lev, b, x, r, CHEB_DEGREE, False)
+        return x
+
+
+def pcg(mg: Multigrid, b: np.ndarray, *, rtol: float, max_iter: int = 200, z0: np.ndarray | None = None):
+    """Conjugate gradients on level 0's ``K u = b``, preconditioned by one V-cycle.
+
+    Stops when ``|r| <= rtol |b|`` (Euclidean norms of the free dofs).
+    ``z0``: ``mg.vcycle(b)`` if the caller has it already.
+    Returns ``(u, iterations, |r| / |b|)``.
+    """
+    lev = mg.levels[0]
+    u = np.zeros_like(b)
+    r = b.copy()
+    nb = np.sqrt(dot(b, b))
+    if nb == 0.0:
+        return u, 0, 0.0
+    z = mg.vcycle(r) if z0 is None else z0
+    p = z.copy()
+    rz = dot(r, z)
+    kp = np.empty_like(b)
+    it = 0
+    rel = 1.0
+    for it in range(1, max_iter + 1):
+        lev.apply(p, kp)
+        alpha = rz / dot(p, kp)
+        _axpy(u, alpha, p)
+        _axpy(r, -alpha, kp)
+        rel = np.sqrt(dot(r, r)) / nb
+        if rel <= rtol:
+            break
+        z = mg.vcycle(r)
+        rz_new = dot(r, z)
+        p *= rz_new / rz
+        p += z
+        rz = rz_new
+    return u, it, rel

@@ -1,0 +1,44 @@
+"""target_velocity: reading the velocity for an Almen intensity off the control curve."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from tasks.target_velocity import ExtrapolatedIntensity, IntensityOutOfRange, target_velocity
+
+
+def _control(extrapolated, saturation_shots, largest=480.0):
+    """A 90 deg control curve, intensity linear in velocity: 0.2/0.3/0.4 mm at 30/40/50 m/s."""
+    v = np.array([30.0, 40.0, 50.0])
+    dims = ("angle_deg", "velocity_m_s")
+    return xr.Dataset(
+        {"intensity_mm": (dims, [[0.2, 0.3, 0.4]]),
+         "intensity_extrapolated": (dims, [extrapolated]),
+         "saturation_shots": (dims, [saturation_shots]),
+         "largest_shot_count": ((), largest)},
+        coords={"angle_deg": [90.0], "velocity_m_s": v},
+    )
+
+
+def test_velocity_is_read_off_a_saturated_curve():
+    # PCHIP through collinear points is the straight line: 0.25 mm -> 35 m/s exactly.
+    ds = target_velocity.fn(_control([0, 0, 1], [100, 200, 900]), intensity_mm=0.25, angle_deg=90.0)
+    assert float(ds.velocity_m_s) == pytest.approx(35.0, rel=1e-12)
+
+
+def test_an_extrapolated_bracketing_point_stops_with_the_ladder_to_use():
+    control = _control([0, 0, 1], [100, 200, 900])
+    with pytest.raises(ExtrapolatedIntensity) as err:
+        target_velocity.fn(control, intensity_mm=0.35, angle_deg=90.0)
+    msg = str(err.value)
+    assert "50 m/s at 90 deg: T = 900 shots" in msg and "largest shot count 480" in msg
+    assert "2048" in msg  # next power of two above 2 T = 1800
+    ds = target_velocity.fn(control, intensity_mm=0.35, angle_deg=90.0, allow_extrapolated=True)
+    assert float(ds.velocity_m_s) == pytest.approx(45.0, rel=1e-12)
+
+
+def test_an_intensity_outside_the_curve_names_the_range():
+    with pytest.raises(IntensityOutOfRange, match="spans 0.2-0.4 mm over 30-50 m/s"):
+        target_velocity.fn(_control([0, 0, 0], [100, 200, 300]), intensity_mm=0.45, angle_deg=90.0)
