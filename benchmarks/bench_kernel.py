@@ -47,42 +47,65 @@ def _pass_arrays(mesh, plastic):
                 hg=np.zeros((ne, 12)), temp=np.full(ne, 293.0), vol0=mesh.element_volumes(), mat=mat.to_array())
 
 
-def element_rate(shape, threads, plastic, reps=None, blocked=True):
+def element_rate(shape, threads, plastic, reps=None, blocked=True, dtype=np.float64, kernels=None):
+    """Element-updates/s (M/s) of one element pass over a ``shape`` box: ``(wall, cpu)``.
+
+    ``cpu`` divides by the process CPU time (per thread): the rate of the
+    cores we actually got, less sensitive to other jobs on the machine than
+    ``wall``. ``kernels``: ``(serial, parallel)`` to time instead of the
+    solver's (the float32 copy).
+    """
     nx, ny, nz = shape
     h = 25e-6
     mesh = BoxMesh(np.arange(nx + 1) * h, np.arange(ny + 1) * h, np.arange(nz + 1) * h)
     a = _pass_arrays(mesh, plastic)
+    for k in ("x", "v", "f", "stress", "eps_p", "sy", "hg", "temp", "vol0"):
+        a[k] = a[k].astype(dtype)
     nnx, nny, _ = mesh.shape_nodes
-    if blocked:
+    if kernels is not None:
+        fn = kernels[1] if threads > 1 else kernels[0]
+    elif blocked:
         fn = element_rows_parallel if threads > 1 else element_rows
     else:
         fn = element_pass_parallel if threads > 1 else element_pass
-    if threads > 1:
-        numba.set_num_threads(threads)
+    numba.set_num_threads(threads)
     args = lambda: (a["x"], a["v"], a["f"], a["stress"], a["eps_p"], a["sy"], a["hg"], a["temp"], a["vol0"],
                     a["mat"], 4e-9, nnx, nny, nx, ny, 0, nx, 0, ny, 0, nz)
     fn(*args())  # warm-up (compiled already by the tiny call in main)
     reps = reps or max(3, int(2e7 / mesh.n_elements))
     t = time.perf_counter()
+    c = time.process_time()
     for _ in range(reps):
         fn(*args())
     dt = time.perf_counter() - t
-    return reps * mesh.n_elements / dt / 1e6
+    dc = time.process_time() - c
+    n = reps * mesh.n_elements / 1e6
+    return n / dt, n / dc * threads
 
 
 def throughput():
-    print(f"# element-updates/s (M/s), element pass only, float64; loadavg at start {loadavg()}, "
-          f"{os.cpu_count()} cores")
+    from kernel_float32 import build
+
+    f32 = build()
+    print(f"# element-updates/s (M/s), element pass only; loadavg at start {loadavg()}, {os.cpu_count()} cores")
+    print("# each cell: wall-clock rate / rate per CPU-second actually received (process CPU time / threads)")
     for b in (True, False):
-        element_rate((4, 4, 4), 1, False, 2, b)
-        element_rate((4, 4, 4), 2, False, 2, b)
-    print("| mesh | elements | threads | blocked elastic M/s | blocked plastic M/s | per-element elastic M/s | per-element plastic M/s |")
-    print("|---|---|---|---|---|---|---|")
+        for th in (1, 2):
+            element_rate((4, 4, 4), th, False, 2, b)
+    for th in (1, 2):
+        element_rate((4, 4, 4), th, False, 2, dtype=np.float32, kernels=f32)
+    print("| mesh | elements | threads | blocked elastic | blocked plastic | float32 elastic | float32 plastic | "
+          "per-element elastic | per-element plastic | load |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for shape in ((20, 20, 20), (60, 60, 60), (120, 120, 40)):
         for th in (1, 2):
-            r = [element_rate(shape, th, p, None, b) for b in (True, False) for p in (False, True)]
-            print(f"| {shape[0]}x{shape[1]}x{shape[2]} | {np.prod(shape)} | {th} | " + " | ".join(f"{x:.2f}" for x in r) + " |",
-                  flush=True)
+            l0 = loadavg()
+            r = [element_rate(shape, th, p) for p in (False, True)]
+            r += [element_rate(shape, th, p, dtype=np.float32, kernels=f32) for p in (False, True)]
+            r += [element_rate(shape, th, p, blocked=False) for p in (False, True)]
+            print(f"| {shape[0]}x{shape[1]}x{shape[2]} | {np.prod(shape)} | {th} | "
+                  + " | ".join(f"{w:.2f} / {c:.2f}" for w, c in r) + f" | {l0}-{loadavg()} |", flush=True)
+    numba.set_num_threads(1)
     print(f"# loadavg at end {loadavg()}")
 
 

@@ -33,13 +33,22 @@ Two implementations of the same element (they agree to round-off, see
 tests/fe/test_element.py):
 
 * :func:`element_rows` (used by the solver): rows of elements along ``i``,
-  processed in blocks of ``BLOCK`` elements with structure-of-arrays scratch;
-  the plastic return and the nodal scatter in separate scalar loops. Rows are
-  coloured by the parity of ``(j, k)`` (4 colours): rows of one colour share
-  no node, so the scatter is race-free under ``prange`` and, each row being
-  done in ``i`` order by one thread, the summation order is the same for any
-  thread count (bit-identical results on 1 and 2 threads). ~1.5x faster than
-  the per-element version on one thread (BENCHMARKS.md).
+  processed in blocks of ``BLOCK`` = 8 elements, one element per SIMD lane.
+  The block's nodes and element state are copied into one flat scratch
+  array (structure of arrays, every quantity at a compile-time offset, so
+  LLVM proves the lane loops alias-free), two call- and branch-free lane
+  loops compute everything but the plastic return (they compile to packed
+  AVX-512 instructions), the Johnson-Cook return runs as a scalar loop over
+  the yielding lanes only, and the nodal scatter adds each node's two
+  contributions of the block in a fixed order. The 8-corner sums and the
+  nodal forces use the tensor-product (Walsh-Hadamard) structure of the
+  signs ``xi, eta, zeta, xi eta, ...``: 23 additions per component instead
+  of 56 multiply-adds. Rows are coloured by the parity of ``(j, k)`` (4
+  colours): rows of one colour share no node, so the scatter is race-free
+  under ``prange`` and, each row being done in ``i`` order by one thread,
+  the summation order is the same for any thread count (bit-identical
+  results on 1 and 2 threads). ~4x faster than the per-element version on
+  one thread when elastic (BENCHMARKS.md section 1).
 * :func:`element_pass`: one element at a time in 8 colours (parity of
   ``i, j, k``); the reference implementation.
 """
@@ -53,7 +62,9 @@ from numba import prange
 from peenflow._jit import jit
 import numpy as np
 
-from peenflow.fe.johnson_cook import radial_return, M_HG_FLOOR, M_BULK_LIN, M_BULK_QUAD, M_HG, M_LAM, M_MU, M_RHO, static_flow_stress, stress_update, thermal_factor, M_ADIABATIC, M_HEAT
+from peenflow.fe.johnson_cook import (M_ADIABATIC, M_BULK_LIN, M_BULK_QUAD, M_HEAT, M_HG, M_HG_FLOOR, M_LAM, M_MU, M_RHO,
+                                      jaumann_trial, plastic_correction, static_flow_stress, stress_update,
+                                      thermal_factor, von_mises)
 
 # local node signs (xi, eta, zeta) and the 4 hourglass base vectors
 SX = (-1.0, 1.0, 1.0, -1.0, -1.0, 1.0, 1.0, -1.0)
@@ -214,7 +225,7 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
     o4 = stress[e, 4]
     o5 = stress[e, 5]
     ep = eps_p[e]
-    n0_, n1_, n2_, n3_, n4_, n5_, deps, sy, gr = stress_update(
+    n0_, n1_, n2_, n3_, n4_, n5_, deps, sy, gr, sy_new = stress_update(
         o0, o1, o2, o3, o4, o5, lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy, dt, ep, sy_static[e], temp[e], mat
     )
     stress[e, 0] = n0_
@@ -229,7 +240,8 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
         dw_pl = sy * deps * vol
         if mat[M_ADIABATIC] != 0.0:
             temp[e] += mat[M_HEAT] * sy * deps
-        sy_static[e] = static_flow_stress(ep + deps, thermal_factor(temp[e], mat), mat)
+            sy_new = static_flow_stress(ep + deps, thermal_factor(temp[e], mat), mat)
+        sy_static[e] = sy_new
     # stress power (mid-step stress)
     dw_int = (
         0.5
@@ -455,132 +467,199 @@ element_pass_parallel = jit(_element_pass_parallel, parallel=True)
 
 
 # ---------------------------------------------------------------------------
-# Blocked variant: the same element, B consecutive elements of a row at a time
-# with the per-element arithmetic in loops over the block that LLVM can
-# vectorise (structure-of-arrays scratch), the plastic return and the nodal
-# scatter in scalar loops. Rows are coloured by (j, k) parity (4 colours):
-# rows of one colour share no node, each row is done by one thread in i
-# order, so the summation order is fixed for any thread count.
+# Blocked variant: the same element, BLOCK consecutive elements of a row at a
+# time, one per SIMD lane (see the module docstring). Rows are coloured by
+# (j, k) parity (4 colours): rows of one colour share no node, each row is
+# done by one thread in i order, so the summation order is fixed for any
+# thread count.
 # ---------------------------------------------------------------------------
 
 BLOCK = 8
+
+# Lane scratch of _row: one flat float64 array per row, every quantity a slot
+# of BLOCK consecutive values (one per lane), slot offsets compile-time
+# constants. One base pointer and constant offsets let LLVM prove the lane
+# loops free of aliasing (no runtime checks) and vectorise them.
+_NDS = BLOCK + 8  # slot length of node data (B + 1 nodes per row, padded)
+# node data: 4 node rows (j,k) (j+1,k) (j,k+1) (j+1,k+1) x (px py pz vx vy vz) x B+1 nodes
+_ND = 0
+_RS = 6 * _NDS  # row stride of node data
+# nodal forces, low (i) and high (i+1) corner of each lane: 4 rows x 3 components;
+# node m of a row gets FLO[m] + FHI[m] (FLO[B] = FHI[0] = 0)
+_FLO = _ND + 4 * _RS
+_FHI = _FLO + 12 * _NDS
+_L0 = _FHI + 12 * _NDS
+# per-lane slots (index * BLOCK after _L0)
+_OLD = 0  # 6: stress at the start of the step
+_HG = 6  # 12: hourglass forces (old, then new)
+_VOL0 = 18
+_SN = 19  # 6: trial, then new stress
+_LM = 25  # 6: lxx lyy lzz dyz dxz dxy
+_VOL = 31
+_QB = 32  # bulk-viscosity pressure
+_STC = 33  # status code
+_QTR = 34  # von Mises of the trial stress
+_GR = 35  # hourglass stiffness ratio
+_KHG = 36  # elastic hourglass stiffness x dt
+_DTE = 37
+_EWV = 38  # viscous work
+_DUAL = 39  # 9: g^1 g^2 g^3
+_WAK = 48  # 12: w_ak
+_QA = 60  # 12: hourglass rates q_a
+_EWI = 72  # internal work
+_EWH = 73  # hourglass work
+_NLANE = 74
+_NSCR = _L0 + _NLANE * BLOCK
+
+
+@jit(inline="always")
+def _corner_sums(w, o, l):
+    """Sums of one nodal component over the element's 8 corners weighted by
+    xi, eta, zeta and the hourglass vectors H1..H4 (a Walsh-Hadamard transform
+    in tensor form: 23 additions instead of 56 multiply-adds). ``o``: offset
+    of the component's slot in row 0 of the node data; lane ``l`` has its low
+    corners at node ``l`` and high corners at ``l + 1`` of each row."""
+    s0 = w[o + l + 1] + w[o + l]
+    d0 = w[o + l + 1] - w[o + l]
+    s1 = w[o + _RS + l + 1] + w[o + _RS + l]
+    d1 = w[o + _RS + l + 1] - w[o + _RS + l]
+    s2 = w[o + 2 * _RS + l + 1] + w[o + 2 * _RS + l]
+    d2 = w[o + 2 * _RS + l + 1] - w[o + 2 * _RS + l]
+    s3 = w[o + 3 * _RS + l + 1] + w[o + 3 * _RS + l]
+    d3 = w[o + 3 * _RS + l + 1] - w[o + 3 * _RS + l]
+    sa = s1 + s0
+    sd = s1 - s0
+    sb = s3 + s2
+    se = s3 - s2
+    da = d1 + d0
+    dd = d1 - d0
+    db = d3 + d2
+    de = d3 - d2
+    # xi, eta, zeta, xi eta (H1), eta zeta (H2), zeta xi (H3), xi eta zeta (H4)
+    return da + db, sd + se, sb - sa, dd + de, se - sd, db - da, de - dd
+
+
+@jit(inline="always")
+def _corner_forces(w, o, l, ok, X, Y, Z, P, Q, R, S):
+    """Inverse of :func:`_corner_sums`: store ``-(X xi + Y eta + Z zeta + P xi eta
+    + Q eta zeta + R zeta xi + S xi eta zeta)`` at the 8 corners of lane ``l``
+    (component slot ``o`` of the force scratch; zero where ``ok`` is false)."""
+    xp = X + P
+    xm = X - P
+    rp = R + S
+    rm = R - S
+    u0 = xm - rm  # row (eta-, zeta-)
+    u1 = xp - rp  # (eta+, zeta-)
+    u2 = xm + rm  # (eta-, zeta+)
+    u3 = xp + rp  # (eta+, zeta+)
+    yp = Y + Q
+    ym = Y - Q
+    c0 = ym + Z  # minus the xi-free part of each row
+    c1 = Z - ym
+    c2 = yp - Z
+    c3 = -(yp + Z)
+    w[_FLO + o + l] = u0 + c0 if ok else 0.0
+    w[_FHI + o + l + 1] = c0 - u0 if ok else 0.0
+    w[_FLO + o + 3 * _NDS + l] = u1 + c1 if ok else 0.0
+    w[_FHI + o + 3 * _NDS + l + 1] = c1 - u1 if ok else 0.0
+    w[_FLO + o + 6 * _NDS + l] = u2 + c2 if ok else 0.0
+    w[_FHI + o + 6 * _NDS + l + 1] = c2 - u2 if ok else 0.0
+    w[_FLO + o + 9 * _NDS + l] = u3 + c3 if ok else 0.0
+    w[_FHI + o + 9 * _NDS + l + 1] = c3 - u3 if ok else 0.0
 
 
 @jit
 def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, out):
     """Elements ``i0 <= i < i1`` of row ``(j, k)``; ``out`` (6,) accumulates
-    ``dt_min, status, dW_int, dW_plastic, dW_hourglass, dW_viscous``."""
+    ``dt_min, status, dW_int, dW_plastic, dW_hourglass, dW_viscous``.
+
+    Per block of ``BLOCK`` elements: gather nodes and element state into the
+    lane scratch (scalar copies), two vectorised lane loops (kinematics and
+    trial stress; forces) around a scalar plastic return of the yielding
+    lanes only, then write back and scatter in a fixed order. Lanes past the
+    end of the row compute a copy of the last element and are discarded.
+    """
     B = BLOCK
     nnxy = nnx * nny
     hdt = 0.5 * dt
     r8 = 0.125
-    offs = (0, 1, 1 + nnx, nnx, nnxy, nnxy + 1, nnxy + 1 + nnx, nnxy + nnx)
-    acc = np.empty((42, B))
-    dual = np.empty((9, B))
-    lm = np.empty((9, B))
-    old = np.empty((6, B))
-    sn = np.empty((6, B))
-    aux = np.empty((8, B))  # vol, det, lch, q_trial, g_ratio, dt_e, status
-    ew = np.empty((3, B))  # dW_int, dW_hg, dW_visc per lane
-    fe = np.empty((24, B))
+    # every slot is written before it is read (checked by filling it with NaN),
+    # except the force slots FLO[B] and FHI[0] zeroed here: no memset per row
+    w = np.empty(_NSCR)
+    for c in range(12):  # node m = B has no low corner, node 0 of the block no high corner in it
+        w[_FLO + c * _NDS + B] = 0.0
+        w[_FHI + c * _NDS] = 0.0
     mod = mat[M_LAM] + 2.0 * mat[M_MU]
     lam = mat[M_LAM]
-    mu2 = 2.0 * mat[M_MU] * dt
+    mu = mat[M_MU]
     rho0 = mat[M_RHO]
     qlin = mat[M_BULK_LIN]
     qquad = mat[M_BULK_QUAD]
     qhg = mat[M_HG]
     hgfloor = mat[M_HG_FLOOR]
+    khgc = qhg * mod
     ebase = nx * (j + ny * k)
     nbase = nnx * (j + nny * k)
     for ib in range(i0, i1, B):
         nb = min(B, i1 - ib)
         e0 = ebase + ib
         n00 = nbase + ib
-        # ---- gather: sums over the 8 nodes (vectorised over the block)
-        for r in range(42):
-            for l in range(nb):
-                acc[r, l] = 0.0
-        for I in range(8):
-            a = SX[I]
-            b = SY[I]
-            c = SZ[I]
-            h1 = H1[I]
-            h2 = H2[I]
-            h3 = H3[I]
-            h4 = H4[I]
-            nI = n00 + offs[I]
-            for l in range(nb):
-                n = nI + l
+        # ---- gather nodes (mid-step positions, velocities) of the 4 node rows
+        for r in range(4):
+            nr = n00 + (r & 1) * nnx + (r >> 1) * nnxy
+            o = _ND + r * _RS
+            for m in range(nb + 1):
+                n = nr + m
                 vx = v[n, 0]
                 vy = v[n, 1]
                 vz = v[n, 2]
-                px = x[n, 0] - hdt * vx
-                py = x[n, 1] - hdt * vy
-                pz = x[n, 2] - hdt * vz
-                acc[0, l] += a * px
-                acc[1, l] += a * py
-                acc[2, l] += a * pz
-                acc[3, l] += b * px
-                acc[4, l] += b * py
-                acc[5, l] += b * pz
-                acc[6, l] += c * px
-                acc[7, l] += c * py
-                acc[8, l] += c * pz
-                acc[9, l] += a * vx
-                acc[10, l] += a * vy
-                acc[11, l] += a * vz
-                acc[12, l] += b * vx
-                acc[13, l] += b * vy
-                acc[14, l] += b * vz
-                acc[15, l] += c * vx
-                acc[16, l] += c * vy
-                acc[17, l] += c * vz
-                acc[18, l] += h1 * px
-                acc[19, l] += h1 * py
-                acc[20, l] += h1 * pz
-                acc[21, l] += h2 * px
-                acc[22, l] += h2 * py
-                acc[23, l] += h2 * pz
-                acc[24, l] += h3 * px
-                acc[25, l] += h3 * py
-                acc[26, l] += h3 * pz
-                acc[27, l] += h4 * px
-                acc[28, l] += h4 * py
-                acc[29, l] += h4 * pz
-                acc[30, l] += h1 * vx
-                acc[31, l] += h1 * vy
-                acc[32, l] += h1 * vz
-                acc[33, l] += h2 * vx
-                acc[34, l] += h2 * vy
-                acc[35, l] += h2 * vz
-                acc[36, l] += h3 * vx
-                acc[37, l] += h3 * vy
-                acc[38, l] += h3 * vz
-                acc[39, l] += h4 * vx
-                acc[40, l] += h4 * vy
-                acc[41, l] += h4 * vz
-        # ---- geometry, rates, Jaumann trial stress (vectorised)
-        for l in range(nb):
-            e = e0 + l
-            g1x = acc[0, l] * r8
-            g1y = acc[1, l] * r8
-            g1z = acc[2, l] * r8
-            g2x = acc[3, l] * r8
-            g2y = acc[4, l] * r8
-            g2z = acc[5, l] * r8
-            g3x = acc[6, l] * r8
-            g3y = acc[7, l] * r8
-            g3z = acc[8, l] * r8
-            v1x = acc[9, l] * r8
-            v1y = acc[10, l] * r8
-            v1z = acc[11, l] * r8
-            v2x = acc[12, l] * r8
-            v2y = acc[13, l] * r8
-            v2z = acc[14, l] * r8
-            v3x = acc[15, l] * r8
-            v3y = acc[16, l] * r8
-            v3z = acc[17, l] * r8
+                w[o + m] = x[n, 0] - hdt * vx
+                w[o + _NDS + m] = x[n, 1] - hdt * vy
+                w[o + 2 * _NDS + m] = x[n, 2] - hdt * vz
+                w[o + 3 * _NDS + m] = vx
+                w[o + 4 * _NDS + m] = vy
+                w[o + 5 * _NDS + m] = vz
+            if nb < B:  # pad: translated copies of the last element
+                for c in range(6):
+                    oc = o + c * _NDS
+                    step = w[oc + nb] - w[oc + nb - 1]
+                    for m in range(nb + 1, B + 1):
+                        w[oc + m] = w[oc + m - 1] + step
+        # ---- gather element state
+        for l in range(B):
+            e = e0 + min(l, nb - 1)
+            for c in range(6):
+                w[_L0 + (_OLD + c) * B + l] = stress[e, c]
+            for c in range(12):
+                w[_L0 + (_HG + c) * B + l] = hg[e, c]
+            w[_L0 + _VOL0 * B + l] = vol0[e]
+        # ---- pass 1 (vectorised): geometry, rates, trial stress, step, viscosity, hourglass kinematics
+        for l in range(B):
+            gx1, gx2, gx3, s1x, s2x, s3x, s4x = _corner_sums(w, _ND, l)
+            gy1, gy2, gy3, s1y, s2y, s3y, s4y = _corner_sums(w, _ND + _NDS, l)
+            gz1, gz2, gz3, s1z, s2z, s3z, s4z = _corner_sums(w, _ND + 2 * _NDS, l)
+            # V_k = 8 v_k (unscaled sums) and the hourglass velocity sums h_a
+            V1x, V2x, V3x, h1x, h2x, h3x, h4x = _corner_sums(w, _ND + 3 * _NDS, l)
+            V1y, V2y, V3y, h1y, h2y, h3y, h4y = _corner_sums(w, _ND + 4 * _NDS, l)
+            V1z, V2z, V3z, h1z, h2z, h3z, h4z = _corner_sums(w, _ND + 5 * _NDS, l)
+            g1x = gx1 * r8
+            g1y = gy1 * r8
+            g1z = gz1 * r8
+            g2x = gx2 * r8
+            g2y = gy2 * r8
+            g2z = gz2 * r8
+            g3x = gx3 * r8
+            g3y = gy3 * r8
+            g3z = gz3 * r8
+            v1x = V1x * r8
+            v1y = V1y * r8
+            v1z = V1z * r8
+            v2x = V2x * r8
+            v2y = V2y * r8
+            v2z = V2z * r8
+            v3x = V3x * r8
+            v3y = V3y * r8
+            v3z = V3z * r8
             c1x = g2y * g3z - g2z * g3y
             c1y = g2z * g3x - g2x * g3z
             c1z = g2x * g3y - g2y * g3x
@@ -592,13 +671,11 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             c3z = g1x * g2y - g1y * g2x
             det = g1x * c1x + g1y * c1y + g1z * c1z
             vol = 8.0 * det
-            ratio = vol / vol0[e]
+            v0 = w[_L0 + _VOL0 * B + l]
+            ratio = vol / v0
             stc = 0.0
-            if not (det > 0.0):
-                stc = ST_NEGATIVE_VOLUME
-            elif ratio < 0.1 or ratio > 10.0:
-                stc = ST_DISTORTION
-            aux[6, l] = stc
+            stc = float(ST_DISTORTION) if (ratio < 0.1) | (ratio > 10.0) else stc
+            stc = stc if det > 0.0 else float(ST_NEGATIVE_VOLUME)
             idet = 1.0 / det
             d1x = c1x * idet
             d1y = c1y * idet
@@ -609,15 +686,6 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             d3x = c3x * idet
             d3y = c3y * idet
             d3z = c3z * idet
-            dual[0, l] = d1x
-            dual[1, l] = d1y
-            dual[2, l] = d1z
-            dual[3, l] = d2x
-            dual[4, l] = d2y
-            dual[5, l] = d2z
-            dual[6, l] = d3x
-            dual[7, l] = d3y
-            dual[8, l] = d3z
             lxx = v1x * d1x + v2x * d2x + v3x * d3x
             lxy = v1x * d1y + v2x * d2y + v3x * d3y
             lxz = v1x * d1z + v2x * d2z + v3x * d3z
@@ -633,114 +701,145 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             wyz = 0.5 * (lyz - lzy)
             wxz = 0.5 * (lxz - lzx)
             wxy = 0.5 * (lxy - lyx)
-            lm[0, l] = lxx
-            lm[1, l] = lyy
-            lm[2, l] = lzz
-            lm[3, l] = dyz
-            lm[4, l] = dxz
-            lm[5, l] = dxy
-            amax = max(c1x * c1x + c1y * c1y + c1z * c1z, c2x * c2x + c2y * c2y + c2z * c2z,
-                       c3x * c3x + c3y * c3y + c3z * c3z)
-            aux[0, l] = vol
-            aux[1, l] = det
-            aux[2, l] = 2.0 * det / math.sqrt(amax)
-            sxx = stress[e, 0]
-            syy = stress[e, 1]
-            szz = stress[e, 2]
-            syz = stress[e, 3]
-            sxz = stress[e, 4]
-            sxy = stress[e, 5]
-            old[0, l] = sxx
-            old[1, l] = syy
-            old[2, l] = szz
-            old[3, l] = syz
-            old[4, l] = sxz
-            old[5, l] = sxy
-            m00 = wxy * sxy + wxz * sxz
-            m11 = -wxy * sxy + wyz * syz
-            m22 = -wxz * sxz - wyz * syz
-            m01 = wxy * syy + wxz * syz
-            m10 = -wxy * sxx + wyz * sxz
-            m02 = wxy * syz + wxz * szz
-            m20 = -wxz * sxx - wyz * sxy
-            m12 = -wxy * sxz + wyz * szz
-            m21 = -wxz * sxy - wyz * syy
-            lt = lam * (lxx + lyy + lzz) * dt
-            t0 = sxx + dt * 2.0 * m00 + lt + mu2 * lxx
-            t1 = syy + dt * 2.0 * m11 + lt + mu2 * lyy
-            t2 = szz + dt * 2.0 * m22 + lt + mu2 * lzz
-            t3 = syz + dt * (m12 + m21) + mu2 * dyz
-            t4 = sxz + dt * (m02 + m20) + mu2 * dxz
-            t5 = sxy + dt * (m01 + m10) + mu2 * dxy
-            sn[0, l] = t0
-            sn[1, l] = t1
-            sn[2, l] = t2
-            sn[3, l] = t3
-            sn[4, l] = t4
-            sn[5, l] = t5
-            p = (t0 + t1 + t2) / 3.0
-            a0 = t0 - p
-            a1 = t1 - p
-            a2 = t2 - p
-            aux[3, l] = math.sqrt(1.5 * (a0 * a0 + a1 * a1 + a2 * a2 + 2.0 * (t3 * t3 + t4 * t4 + t5 * t5)))
-            aux[4, l] = 1.0
-        # ---- plastic return (scalar, only yielding elements)
-        for l in range(nb):
-            e = e0 + l
-            if aux[6, l] != 0.0:
-                out[1] = max(out[1], aux[6, l])
-                continue
-            if aux[3, l] > sy_static[e] and dt > 0.0:
-                deps, sy, gr = _return_on_trial(sn, l, aux[3, l], lm, dt, eps_p[e], temp[e], mat)
-                if deps > 0.0:
-                    ep = eps_p[e] + deps
-                    eps_p[e] = ep
-                    out[3] += sy * deps * aux[0, l]
-                    if mat[M_ADIABATIC] != 0.0:
-                        temp[e] += mat[M_HEAT] * sy * deps
-                    sy_static[e] = static_flow_stress(ep, thermal_factor(temp[e], mat), mat)
-                aux[4, l] = gr
-            for c in range(6):
-                stress[e, c] = sn[c, l]
-        # ---- forces, hourglass, step, energies (vectorised)
-        for l in range(nb):
-            e = e0 + l
-            vol = aux[0, l]
-            det = aux[1, l]
-            lch = aux[2, l]
-            lxx = lm[0, l]
-            lyy = lm[1, l]
-            lzz = lm[2, l]
-            n0_ = sn[0, l]
-            n1_ = sn[1, l]
-            n2_ = sn[2, l]
-            n3_ = sn[3, l]
-            n4_ = sn[4, l]
-            n5_ = sn[5, l]
-            ew[0, l] = 0.5 * dt * vol * ((old[0, l] + n0_) * lxx + (old[1, l] + n1_) * lyy + (old[2, l] + n2_) * lzz
-                                         + 2.0 * ((old[3, l] + n3_) * lm[3, l] + (old[4, l] + n4_) * lm[4, l]
-                                                  + (old[5, l] + n5_) * lm[5, l]))
-            rho = rho0 * vol0[e] / vol
+            t0, t1, t2, t3, t4, t5 = jaumann_trial(
+                w[_L0 + _OLD * B + l], w[_L0 + (_OLD + 1) * B + l], w[_L0 + (_OLD + 2) * B + l],
+                w[_L0 + (_OLD + 3) * B + l], w[_L0 + (_OLD + 4) * B + l], w[_L0 + (_OLD + 5) * B + l],
+                lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy, dt, lam, mu)
+            w[_L0 + _SN * B + l] = t0
+            w[_L0 + (_SN + 1) * B + l] = t1
+            w[_L0 + (_SN + 2) * B + l] = t2
+            w[_L0 + (_SN + 3) * B + l] = t3
+            w[_L0 + (_SN + 4) * B + l] = t4
+            w[_L0 + (_SN + 5) * B + l] = t5
+            w[_L0 + _QTR * B + l] = von_mises(t0, t1, t2, t3, t4, t5)
+            w[_L0 + _LM * B + l] = lxx
+            w[_L0 + (_LM + 1) * B + l] = lyy
+            w[_L0 + (_LM + 2) * B + l] = lzz
+            w[_L0 + (_LM + 3) * B + l] = dyz
+            w[_L0 + (_LM + 4) * B + l] = dxz
+            w[_L0 + (_LM + 5) * B + l] = dxy
+            w[_L0 + _STC * B + l] = stc
+            w[_L0 + _GR * B + l] = 1.0
+            w[_L0 + _VOL * B + l] = vol
+            w[_L0 + _DUAL * B + l] = d1x
+            w[_L0 + (_DUAL + 1) * B + l] = d1y
+            w[_L0 + (_DUAL + 2) * B + l] = d1z
+            w[_L0 + (_DUAL + 3) * B + l] = d2x
+            w[_L0 + (_DUAL + 4) * B + l] = d2y
+            w[_L0 + (_DUAL + 5) * B + l] = d2z
+            w[_L0 + (_DUAL + 6) * B + l] = d3x
+            w[_L0 + (_DUAL + 7) * B + l] = d3y
+            w[_L0 + (_DUAL + 8) * B + l] = d3z
+            # wave speed, characteristic length (V / largest face), bulk viscosity, stable step
+            amax = max(c1x * c1x + c1y * c1y + c1z * c1z, c2x * c2x + c2y * c2y + c2z * c2z)
+            amax = max(amax, c3x * c3x + c3y * c3y + c3z * c3z)
+            lch = 2.0 * det / math.sqrt(amax)
+            rho = rho0 * v0 / vol
             c2 = mod / rho
             cw = math.sqrt(c2)
             ev = lxx + lyy + lzz
-            qv = 0.0
-            qb = 0.0
-            if ev < 0.0:
-                qv = qlin * cw - qquad * lch * ev
-                qb = -rho * lch * qv * ev
-            ew[2, l] = -qb * ev * vol * dt
+            comp = ev < 0.0
+            qv = qlin * cw - qquad * lch * ev if comp else 0.0
+            qb = -rho * lch * qv * ev if comp else 0.0
+            w[_L0 + _QB * B + l] = qb
+            w[_L0 + _EWV * B + l] = -qb * ev * vol * dt
             om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
-            aux[5, l] = 2.0 / math.sqrt(om * om + 32.0 * qhg * c2 / (lch * lch))
-            d1x = dual[0, l]
-            d1y = dual[1, l]
-            d1z = dual[2, l]
-            d2x = dual[3, l]
-            d2y = dual[4, l]
-            d2z = dual[5, l]
-            d3x = dual[6, l]
-            d3y = dual[7, l]
-            d3z = dual[8, l]
+            w[_L0 + _DTE * B + l] = 2.0 / math.sqrt(om * om + 32.0 * qhg * c2 / (lch * lch))
+            # hourglass: w_ak = (s_a . g^k)/8, q_a = h_a - sum_k w_ak V_k
+            w11 = (s1x * d1x + s1y * d1y + s1z * d1z) * r8
+            w12 = (s1x * d2x + s1y * d2y + s1z * d2z) * r8
+            w13 = (s1x * d3x + s1y * d3y + s1z * d3z) * r8
+            w21 = (s2x * d1x + s2y * d1y + s2z * d1z) * r8
+            w22 = (s2x * d2x + s2y * d2y + s2z * d2z) * r8
+            w23 = (s2x * d3x + s2y * d3y + s2z * d3z) * r8
+            w31 = (s3x * d1x + s3y * d1y + s3z * d1z) * r8
+            w32 = (s3x * d2x + s3y * d2y + s3z * d2z) * r8
+            w33 = (s3x * d3x + s3y * d3y + s3z * d3z) * r8
+            w41 = (s4x * d1x + s4y * d1y + s4z * d1z) * r8
+            w42 = (s4x * d2x + s4y * d2y + s4z * d2z) * r8
+            w43 = (s4x * d3x + s4y * d3y + s4z * d3z) * r8
+            w[_L0 + _WAK * B + l] = w11
+            w[_L0 + (_WAK + 1) * B + l] = w12
+            w[_L0 + (_WAK + 2) * B + l] = w13
+            w[_L0 + (_WAK + 3) * B + l] = w21
+            w[_L0 + (_WAK + 4) * B + l] = w22
+            w[_L0 + (_WAK + 5) * B + l] = w23
+            w[_L0 + (_WAK + 6) * B + l] = w31
+            w[_L0 + (_WAK + 7) * B + l] = w32
+            w[_L0 + (_WAK + 8) * B + l] = w33
+            w[_L0 + (_WAK + 9) * B + l] = w41
+            w[_L0 + (_WAK + 10) * B + l] = w42
+            w[_L0 + (_WAK + 11) * B + l] = w43
+            w[_L0 + _QA * B + l] = h1x - (w11 * V1x + w12 * V2x + w13 * V3x)
+            w[_L0 + (_QA + 1) * B + l] = h1y - (w11 * V1y + w12 * V2y + w13 * V3y)
+            w[_L0 + (_QA + 2) * B + l] = h1z - (w11 * V1z + w12 * V2z + w13 * V3z)
+            w[_L0 + (_QA + 3) * B + l] = h2x - (w21 * V1x + w22 * V2x + w23 * V3x)
+            w[_L0 + (_QA + 4) * B + l] = h2y - (w21 * V1y + w22 * V2y + w23 * V3y)
+            w[_L0 + (_QA + 5) * B + l] = h2z - (w21 * V1z + w22 * V2z + w23 * V3z)
+            w[_L0 + (_QA + 6) * B + l] = h3x - (w31 * V1x + w32 * V2x + w33 * V3x)
+            w[_L0 + (_QA + 7) * B + l] = h3y - (w31 * V1y + w32 * V2y + w33 * V3y)
+            w[_L0 + (_QA + 8) * B + l] = h3z - (w31 * V1z + w32 * V2z + w33 * V3z)
+            w[_L0 + (_QA + 9) * B + l] = h4x - (w41 * V1x + w42 * V2x + w43 * V3x)
+            w[_L0 + (_QA + 10) * B + l] = h4y - (w41 * V1y + w42 * V2y + w43 * V3y)
+            w[_L0 + (_QA + 11) * B + l] = h4z - (w41 * V1z + w42 * V2z + w43 * V3z)
+            gsum = (d1x * d1x + d1y * d1y + d1z * d1z + d2x * d2x + d2y * d2y + d2z * d2z
+                    + d3x * d3x + d3y * d3y + d3z * d3z)
+            w[_L0 + _KHG * B + l] = khgc * vol * gsum / 24.0 * dt
+        # ---- plastic return (scalar, yielding lanes only)
+        if dt > 0.0:
+            for l in range(nb):
+                e = e0 + l
+                q = w[_L0 + _QTR * B + l]
+                if q > sy_static[e] and w[_L0 + _STC * B + l] == 0.0:
+                    o = _L0 + _SN * B + l
+                    ol = _L0 + _LM * B + l
+                    n0_, n1_, n2_, n3_, n4_, n5_, deps, sy, gr, sy_new = plastic_correction(
+                        w[o], w[o + B], w[o + 2 * B], w[o + 3 * B], w[o + 4 * B], w[o + 5 * B], q,
+                        w[ol], w[ol + B], w[ol + 2 * B], w[ol + 3 * B], w[ol + 4 * B], w[ol + 5 * B],
+                        dt, eps_p[e], temp[e], mat)
+                    w[o] = n0_
+                    w[o + B] = n1_
+                    w[o + 2 * B] = n2_
+                    w[o + 3 * B] = n3_
+                    w[o + 4 * B] = n4_
+                    w[o + 5 * B] = n5_
+                    w[_L0 + _GR * B + l] = gr
+                    if deps > 0.0:
+                        ep = eps_p[e] + deps
+                        eps_p[e] = ep
+                        out[3] += sy * deps * w[_L0 + _VOL * B + l]
+                        if mat[M_ADIABATIC] != 0.0:
+                            temp[e] += mat[M_HEAT] * sy * deps
+                            sy_new = static_flow_stress(ep, thermal_factor(temp[e], mat), mat)
+                        sy_static[e] = sy_new
+        # ---- pass 2 (vectorised): stress power, nodal forces, hourglass forces
+        for l in range(B):
+            ok = (l < nb) & (w[_L0 + _STC * B + l] == 0.0)
+            vol = w[_L0 + _VOL * B + l]
+            qb = w[_L0 + _QB * B + l]
+            n0_ = w[_L0 + _SN * B + l]
+            n1_ = w[_L0 + (_SN + 1) * B + l]
+            n2_ = w[_L0 + (_SN + 2) * B + l]
+            n3_ = w[_L0 + (_SN + 3) * B + l]
+            n4_ = w[_L0 + (_SN + 4) * B + l]
+            n5_ = w[_L0 + (_SN + 5) * B + l]
+            w[_L0 + _EWI * B + l] = 0.5 * dt * vol * (
+                (w[_L0 + _OLD * B + l] + n0_) * w[_L0 + _LM * B + l]
+                + (w[_L0 + (_OLD + 1) * B + l] + n1_) * w[_L0 + (_LM + 1) * B + l]
+                + (w[_L0 + (_OLD + 2) * B + l] + n2_) * w[_L0 + (_LM + 2) * B + l]
+                + 2.0 * ((w[_L0 + (_OLD + 3) * B + l] + n3_) * w[_L0 + (_LM + 3) * B + l]
+                         + (w[_L0 + (_OLD + 4) * B + l] + n4_) * w[_L0 + (_LM + 4) * B + l]
+                         + (w[_L0 + (_OLD + 5) * B + l] + n5_) * w[_L0 + (_LM + 5) * B + l]))
+            d1x = w[_L0 + _DUAL * B + l]
+            d1y = w[_L0 + (_DUAL + 1) * B + l]
+            d1z = w[_L0 + (_DUAL + 2) * B + l]
+            d2x = w[_L0 + (_DUAL + 3) * B + l]
+            d2y = w[_L0 + (_DUAL + 4) * B + l]
+            d2z = w[_L0 + (_DUAL + 5) * B + l]
+            d3x = w[_L0 + (_DUAL + 6) * B + l]
+            d3y = w[_L0 + (_DUAL + 7) * B + l]
+            d3z = w[_L0 + (_DUAL + 8) * B + l]
+            # t_k = V (sigma - q I) g^k / 8
             sxx = (n0_ - qb) * vol
             syy = (n1_ - qb) * vol
             szz = (n2_ - qb) * vol
@@ -756,68 +855,33 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             t3x = (sxx * d3x + sxy * d3y + sxz * d3z) * r8
             t3y = (sxy * d3x + syy * d3y + syz * d3z) * r8
             t3z = (sxz * d3x + syz * d3y + szz * d3z) * r8
-            s1x = acc[18, l]
-            s1y = acc[19, l]
-            s1z = acc[20, l]
-            s2x = acc[21, l]
-            s2y = acc[22, l]
-            s2z = acc[23, l]
-            s3x = acc[24, l]
-            s3y = acc[25, l]
-            s3z = acc[26, l]
-            s4x = acc[27, l]
-            s4y = acc[28, l]
-            s4z = acc[29, l]
-            w11 = (s1x * d1x + s1y * d1y + s1z * d1z) * r8
-            w12 = (s1x * d2x + s1y * d2y + s1z * d2z) * r8
-            w13 = (s1x * d3x + s1y * d3y + s1z * d3z) * r8
-            w21 = (s2x * d1x + s2y * d1y + s2z * d1z) * r8
-            w22 = (s2x * d2x + s2y * d2y + s2z * d2z) * r8
-            w23 = (s2x * d3x + s2y * d3y + s2z * d3z) * r8
-            w31 = (s3x * d1x + s3y * d1y + s3z * d1z) * r8
-            w32 = (s3x * d2x + s3y * d2y + s3z * d2z) * r8
-            w33 = (s3x * d3x + s3y * d3y + s3z * d3z) * r8
-            w41 = (s4x * d1x + s4y * d1y + s4z * d1z) * r8
-            w42 = (s4x * d2x + s4y * d2y + s4z * d2z) * r8
-            w43 = (s4x * d3x + s4y * d3y + s4z * d3z) * r8
-            v1x = acc[9, l]
-            v1y = acc[10, l]
-            v1z = acc[11, l]
-            v2x = acc[12, l]
-            v2y = acc[13, l]
-            v2z = acc[14, l]
-            v3x = acc[15, l]
-            v3y = acc[16, l]
-            v3z = acc[17, l]
-            # acc[9:18] are 8 vk (unscaled sums), as needed by q_a = h_a - sum_k w_ak 8 vk
-            q1x = acc[30, l] - (w11 * v1x + w12 * v2x + w13 * v3x)
-            q1y = acc[31, l] - (w11 * v1y + w12 * v2y + w13 * v3y)
-            q1z = acc[32, l] - (w11 * v1z + w12 * v2z + w13 * v3z)
-            q2x = acc[33, l] - (w21 * v1x + w22 * v2x + w23 * v3x)
-            q2y = acc[34, l] - (w21 * v1y + w22 * v2y + w23 * v3y)
-            q2z = acc[35, l] - (w21 * v1z + w22 * v2z + w23 * v3z)
-            q3x = acc[36, l] - (w31 * v1x + w32 * v2x + w33 * v3x)
-            q3y = acc[37, l] - (w31 * v1y + w32 * v2y + w33 * v3y)
-            q3z = acc[38, l] - (w31 * v1z + w32 * v2z + w33 * v3z)
-            q4x = acc[39, l] - (w41 * v1x + w42 * v2x + w43 * v3x)
-            q4y = acc[40, l] - (w41 * v1y + w42 * v2y + w43 * v3y)
-            q4z = acc[41, l] - (w41 * v1z + w42 * v2z + w43 * v3z)
-            gsum = (d1x * d1x + d1y * d1y + d1z * d1z + d2x * d2x + d2y * d2y + d2z * d2z
-                    + d3x * d3x + d3y * d3y + d3z * d3z)
-            gr = max(aux[4, l], hgfloor)
-            khg = qhg * mod * vol * gsum / 24.0 * dt * gr
-            o0 = hg[e, 0]
-            o1 = hg[e, 1]
-            o2 = hg[e, 2]
-            o3 = hg[e, 3]
-            o4 = hg[e, 4]
-            o5 = hg[e, 5]
-            o6 = hg[e, 6]
-            o7 = hg[e, 7]
-            o8 = hg[e, 8]
-            o9 = hg[e, 9]
-            o10 = hg[e, 10]
-            o11 = hg[e, 11]
+            # hourglass forces F_a += k_hg q_a dt; stiffness follows the element's
+            # deviatoric tangent (reduced, not below the floor, when yielding)
+            khg = w[_L0 + _KHG * B + l] * max(w[_L0 + _GR * B + l], hgfloor)
+            o0 = w[_L0 + _HG * B + l]
+            o1 = w[_L0 + (_HG + 1) * B + l]
+            o2 = w[_L0 + (_HG + 2) * B + l]
+            o3 = w[_L0 + (_HG + 3) * B + l]
+            o4 = w[_L0 + (_HG + 4) * B + l]
+            o5 = w[_L0 + (_HG + 5) * B + l]
+            o6 = w[_L0 + (_HG + 6) * B + l]
+            o7 = w[_L0 + (_HG + 7) * B + l]
+            o8 = w[_L0 + (_HG + 8) * B + l]
+            o9 = w[_L0 + (_HG + 9) * B + l]
+            o10 = w[_L0 + (_HG + 10) * B + l]
+            o11 = w[_L0 + (_HG + 11) * B + l]
+            q1x = w[_L0 + _QA * B + l]
+            q1y = w[_L0 + (_QA + 1) * B + l]
+            q1z = w[_L0 + (_QA + 2) * B + l]
+            q2x = w[_L0 + (_QA + 3) * B + l]
+            q2y = w[_L0 + (_QA + 4) * B + l]
+            q2z = w[_L0 + (_QA + 5) * B + l]
+            q3x = w[_L0 + (_QA + 6) * B + l]
+            q3y = w[_L0 + (_QA + 7) * B + l]
+            q3z = w[_L0 + (_QA + 8) * B + l]
+            q4x = w[_L0 + (_QA + 9) * B + l]
+            q4y = w[_L0 + (_QA + 10) * B + l]
+            q4z = w[_L0 + (_QA + 11) * B + l]
             f1x = o0 + khg * q1x
             f1y = o1 + khg * q1y
             f1z = o2 + khg * q1z
@@ -830,89 +894,71 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             f4x = o9 + khg * q4x
             f4y = o10 + khg * q4y
             f4z = o11 + khg * q4z
-            ew[1, l] = 0.5 * dt * ((o0 + f1x) * q1x + (o1 + f1y) * q1y + (o2 + f1z) * q1z
-                                   + (o3 + f2x) * q2x + (o4 + f2y) * q2y + (o5 + f2z) * q2z
-                                   + (o6 + f3x) * q3x + (o7 + f3y) * q3y + (o8 + f3z) * q3z
-                                   + (o9 + f4x) * q4x + (o10 + f4y) * q4y + (o11 + f4z) * q4z)
-            hg[e, 0] = f1x
-            hg[e, 1] = f1y
-            hg[e, 2] = f1z
-            hg[e, 3] = f2x
-            hg[e, 4] = f2y
-            hg[e, 5] = f2z
-            hg[e, 6] = f3x
-            hg[e, 7] = f3y
-            hg[e, 8] = f3z
-            hg[e, 9] = f4x
-            hg[e, 10] = f4y
-            hg[e, 11] = f4z
-            for I in range(8):
-                a = SX[I]
-                b = SY[I]
-                c = SZ[I]
-                ga1 = H1[I] - (w11 * a + w12 * b + w13 * c)
-                ga2 = H2[I] - (w21 * a + w22 * b + w23 * c)
-                ga3 = H3[I] - (w31 * a + w32 * b + w33 * c)
-                ga4 = H4[I] - (w41 * a + w42 * b + w43 * c)
-                fe[3 * I, l] = -(a * t1x + b * t2x + c * t3x + ga1 * f1x + ga2 * f2x + ga3 * f3x + ga4 * f4x)
-                fe[3 * I + 1, l] = -(a * t1y + b * t2y + c * t3y + ga1 * f1y + ga2 * f2y + ga3 * f3y + ga4 * f4y)
-                fe[3 * I + 2, l] = -(a * t1z + b * t2z + c * t3z + ga1 * f1z + ga2 * f2z + ga3 * f3z + ga4 * f4z)
-        # ---- scatter and reductions (scalar, fixed order)
+            w[_L0 + _EWH * B + l] = 0.5 * dt * ((o0 + f1x) * q1x + (o1 + f1y) * q1y + (o2 + f1z) * q1z
+                                                + (o3 + f2x) * q2x + (o4 + f2y) * q2y + (o5 + f2z) * q2z
+                                                + (o6 + f3x) * q3x + (o7 + f3y) * q3y + (o8 + f3z) * q3z
+                                                + (o9 + f4x) * q4x + (o10 + f4y) * q4y + (o11 + f4z) * q4z)
+            w[_L0 + _HG * B + l] = f1x
+            w[_L0 + (_HG + 1) * B + l] = f1y
+            w[_L0 + (_HG + 2) * B + l] = f1z
+            w[_L0 + (_HG + 3) * B + l] = f2x
+            w[_L0 + (_HG + 4) * B + l] = f2y
+            w[_L0 + (_HG + 5) * B + l] = f2z
+            w[_L0 + (_HG + 6) * B + l] = f3x
+            w[_L0 + (_HG + 7) * B + l] = f3y
+            w[_L0 + (_HG + 8) * B + l] = f3z
+            w[_L0 + (_HG + 9) * B + l] = f4x
+            w[_L0 + (_HG + 10) * B + l] = f4y
+            w[_L0 + (_HG + 11) * B + l] = f4z
+            # nodal forces -(sum_k t_k grad-sign_k + sum_a F_a gamma_a) with
+            # gamma_a = H_a - sum_k w_ak xi_k: collect the xi_k parts first
+            w11 = w[_L0 + _WAK * B + l]
+            w12 = w[_L0 + (_WAK + 1) * B + l]
+            w13 = w[_L0 + (_WAK + 2) * B + l]
+            w21 = w[_L0 + (_WAK + 3) * B + l]
+            w22 = w[_L0 + (_WAK + 4) * B + l]
+            w23 = w[_L0 + (_WAK + 5) * B + l]
+            w31 = w[_L0 + (_WAK + 6) * B + l]
+            w32 = w[_L0 + (_WAK + 7) * B + l]
+            w33 = w[_L0 + (_WAK + 8) * B + l]
+            w41 = w[_L0 + (_WAK + 9) * B + l]
+            w42 = w[_L0 + (_WAK + 10) * B + l]
+            w43 = w[_L0 + (_WAK + 11) * B + l]
+            _corner_forces(w, 0, l, ok,
+                           t1x - (w11 * f1x + w21 * f2x + w31 * f3x + w41 * f4x),
+                           t2x - (w12 * f1x + w22 * f2x + w32 * f3x + w42 * f4x),
+                           t3x - (w13 * f1x + w23 * f2x + w33 * f3x + w43 * f4x), f1x, f2x, f3x, f4x)
+            _corner_forces(w, _NDS, l, ok,
+                           t1y - (w11 * f1y + w21 * f2y + w31 * f3y + w41 * f4y),
+                           t2y - (w12 * f1y + w22 * f2y + w32 * f3y + w42 * f4y),
+                           t3y - (w13 * f1y + w23 * f2y + w33 * f3y + w43 * f4y), f1y, f2y, f3y, f4y)
+            _corner_forces(w, 2 * _NDS, l, ok,
+                           t1z - (w11 * f1z + w21 * f2z + w31 * f3z + w41 * f4z),
+                           t2z - (w12 * f1z + w22 * f2z + w32 * f3z + w42 * f4z),
+                           t3z - (w13 * f1z + w23 * f2z + w33 * f3z + w43 * f4z), f1z, f2z, f3z, f4z)
+        # ---- write back, reductions (lane order), scatter (node order)
         for l in range(nb):
-            if aux[6, l] != 0.0:
+            e = e0 + l
+            st = w[_L0 + _STC * B + l]
+            if st != 0.0:
+                out[1] = max(out[1], st)
                 continue
-            nl = n00 + l
-            for I in range(8):
-                n = nl + offs[I]
-                f[n, 0] += fe[3 * I, l]
-                f[n, 1] += fe[3 * I + 1, l]
-                f[n, 2] += fe[3 * I + 2, l]
-            out[0] = min(out[0], aux[5, l])
-            out[2] += ew[0, l]
-            out[4] += ew[1, l]
-            out[5] += ew[2, l]
-
-
-@jit
-def _return_on_trial(sn, l, q, lm, dt, eps_p, temp, mat):
-    """Radial return of the trial stress ``sn[:, l]`` (in place); returns
-    ``(d_eps_p, sigma_y, g_ratio)`` as :func:`stress_update` does."""
-    mu = mat[M_MU]
-    theta = thermal_factor(temp, mat)
-    deps, sy = radial_return(q, eps_p, dt, theta, mat)
-    fr = (q - 3.0 * mu * deps) / q
-    p = (sn[0, l] + sn[1, l] + sn[2, l]) / 3.0
-    a0 = sn[0, l] - p
-    a1 = sn[1, l] - p
-    a2 = sn[2, l] - p
-    t3 = sn[3, l]
-    t4 = sn[4, l]
-    t5 = sn[5, l]
-    sn[0, l] = p + fr * a0
-    sn[1, l] = p + fr * a1
-    sn[2, l] = p + fr * a2
-    sn[3, l] = fr * t3
-    sn[4, l] = fr * t4
-    sn[5, l] = fr * t5
-    mu2 = 2.0 * mu * dt
-    trd = (lm[0, l] + lm[1, l] + lm[2, l]) / 3.0
-    e0 = mu2 * (lm[0, l] - trd)
-    e1 = mu2 * (lm[1, l] - trd)
-    e2 = mu2 * (lm[2, l] - trd)
-    e3 = mu2 * lm[3, l]
-    e4 = mu2 * lm[4, l]
-    e5 = mu2 * lm[5, l]
-    den = e0 * e0 + e1 * e1 + e2 * e2 + 2.0 * (e3 * e3 + e4 * e4 + e5 * e5)
-    g = 1.0
-    if den > 0.0:
-        u0 = (fr - 1.0) * a0 + e0
-        u1 = (fr - 1.0) * a1 + e1
-        u2 = (fr - 1.0) * a2 + e2
-        u3 = (fr - 1.0) * t3 + e3
-        u4 = (fr - 1.0) * t4 + e4
-        u5 = (fr - 1.0) * t5 + e5
-        g = min(1.0, math.sqrt((u0 * u0 + u1 * u1 + u2 * u2 + 2.0 * (u3 * u3 + u4 * u4 + u5 * u5)) / den))
-    return deps, sy, g
+            for c in range(6):
+                stress[e, c] = w[_L0 + (_SN + c) * B + l]
+            for c in range(12):
+                hg[e, c] = w[_L0 + (_HG + c) * B + l]
+            out[0] = min(out[0], w[_L0 + _DTE * B + l])
+            out[2] += w[_L0 + _EWI * B + l]
+            out[4] += w[_L0 + _EWH * B + l]
+            out[5] += w[_L0 + _EWV * B + l]
+        for r in range(4):
+            nr = n00 + (r & 1) * nnx + (r >> 1) * nnxy
+            o = r * 3 * _NDS
+            for m in range(nb + 1):
+                n = nr + m
+                f[n, 0] += w[_FLO + o + m] + w[_FHI + o + m]
+                f[n, 1] += w[_FLO + o + _NDS + m] + w[_FHI + o + _NDS + m]
+                f[n, 2] += w[_FLO + o + 2 * _NDS + m] + w[_FHI + o + 2 * _NDS + m]
 
 
 def _rows_pass(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1):

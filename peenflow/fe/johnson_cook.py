@@ -158,15 +158,29 @@ def static_flow_stress(eps_p, theta, mat):
 def radial_return(q_trial, eps_p, dt, theta, mat):
     """Solve ``q_trial - 3 mu d = sigma_y(eps_p + d, d/dt)`` for ``d >= 0``.
 
-    Returns ``(d_eps_p, sigma_y)`` with sigma_y the flow stress at the solution (Pa).
+    Returns ``(d_eps_p, sigma_y, sigma_y_static)``: the flow stress at the
+    solution and the static flow stress ``(A + B (eps_p + d)^n)(1 - T*^m)``
+    there (Pa; the caller stores it, no extra ``pow``).
+
+    Newton on ``d`` safeguarded by the bracket ``[lo, hi]``. A Newton step
+    that would leave the bracket on the left (the rate term's ``ln d`` makes
+    the residual steep near 0) is taken in ``ln d`` instead, which keeps it
+    positive; bisection only if that fails too. Once ``|f| <= 1e-7 q`` (with
+    the iterate and the step on the same side of the rate kink ``d = dt
+    eps_dot_0``, where the residual is smooth) one last Newton step is taken
+    without evaluating it: its error is O(f^2), below the ``1e-12 q``
+    tolerance of the residual test, and the flow stress there follows from the
+    yield condition itself, ``sigma_y = q - 3 mu d``.
     """
     mu3 = 3.0 * mat[M_MU]
     A, B, n, C = mat[M_A], mat[M_B], mat[M_N], mat[M_C]
     rate_on = mat[M_RATE_ON] != 0.0
-    rate_scale = 1.0 / (dt * mat[M_RATE0])
-    hi = (q_trial - static_flow_stress(eps_p, theta, mat)) / mu3
+    d_kink = dt * mat[M_RATE0]
+    rate_scale = 1.0 / d_kink
+    s_static = static_flow_stress(eps_p, theta, mat)
+    hi = (q_trial - s_static) / mu3
     if hi <= 0.0:
-        return 0.0, q_trial
+        return 0.0, q_trial, s_static
     lo = 0.0
     d = hi
     sy = q_trial
@@ -185,6 +199,7 @@ def radial_return(q_trial, eps_p, dt, theta, mat):
                 R = 1.0 + C * math.log(r)
                 dR = C / d
         sy = stat * R * theta
+        s_static = stat * theta
         f = q_trial - mu3 * d - sy
         if f > 0.0:
             lo = d
@@ -194,26 +209,26 @@ def radial_return(q_trial, eps_p, dt, theta, mat):
             break
         df = -mu3 - (dstat * R + stat * dR) * theta
         dn = d - f / df
+        if abs(f) <= 1e-7 * q_trial and lo < dn < hi and (not rate_on or (d > d_kink) == (dn > d_kink)):
+            return dn, q_trial - mu3 * dn, (stat + dstat * (dn - d)) * theta
+        if dn <= lo:
+            dn = d * math.exp(-f / (df * d))  # the Newton step in ln d
         if dn <= lo or dn >= hi:
             dn = 0.5 * (lo + hi)
         d = dn
-    return d, sy
+    return d, sy, s_static
 
 
-@jit
-def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt, eps_p, sy_static, temp, mat):
-    """Jaumann-rotated hypo-elastic trial + Johnson-Cook radial return.
+@jit(inline="always")
+def jaumann_trial(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt, lam, mu):
+    """Hypo-elastic trial stress: old stress rotated with the Jaumann rate plus
+    ``lambda tr(D) dt I + 2 mu D dt`` (arguments as :func:`stress_update`).
 
-    Stress ``s`` (Pa) and rate of deformation ``d`` (1/s, tensor components,
-    NOT engineering shear) in Voigt order xx yy zz yz xz xy; spin
-    ``w = (W_yz, W_xz, W_xy)`` (1/s, W = (L - L^T)/2). Returns the new stress
-    (6 values), ``d_eps_p``, the flow stress (Pa; the static one if elastic)
-    and ``g_ratio``: the ratio of the actual to the elastic-trial deviatoric
-    stress increment of the step (1 when elastic, ~E_t/E in steady plastic
-    flow), used to soften the hourglass stiffness of yielding elements.
+    The one implementation of the elastic update: :func:`stress_update` and the
+    blocked element kernel (``peenflow.fe.element``) both call it; it is
+    inlined (numba IR) so that the element kernel's lane loop stays free of
+    calls and vectorises.
     """
-    lam = mat[M_LAM]
-    mu = mat[M_MU]
     # Jaumann rotation: s += dt (W s - s W) = dt (M + M^T), M = W s
     # W = [[0, wxy, wxz], [-wxy, 0, wyz], [-wxz, -wyz, 0]]
     wyz, wxz, wxy = w0, w1, w2
@@ -236,17 +251,38 @@ def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt
     t3 = syz + dt * (m12 + m21) + mu2 * d3
     t4 = sxz + dt * (m02 + m20) + mu2 * d4
     t5 = sxy + dt * (m01 + m10) + mu2 * d5
+    return t0, t1, t2, t3, t4, t5
+
+
+@jit(inline="always")
+def von_mises(t0, t1, t2, t3, t4, t5):
+    """Von Mises equivalent of a stress (Voigt order xx yy zz yz xz xy), Pa."""
     p = (t0 + t1 + t2) / 3.0
     a0 = t0 - p
     a1 = t1 - p
     a2 = t2 - p
-    q = math.sqrt(1.5 * (a0 * a0 + a1 * a1 + a2 * a2 + 2.0 * (t3 * t3 + t4 * t4 + t5 * t5)))
-    if q <= sy_static or dt <= 0.0:
-        return t0, t1, t2, t3, t4, t5, 0.0, sy_static, 1.0
+    return math.sqrt(1.5 * (a0 * a0 + a1 * a1 + a2 * a2 + 2.0 * (t3 * t3 + t4 * t4 + t5 * t5)))
+
+
+@jit
+def plastic_correction(t0, t1, t2, t3, t4, t5, q, d0, d1, d2, d3, d4, d5, dt, eps_p, temp, mat):
+    """Radial return of the trial stress ``t`` whose von Mises value ``q``
+    exceeds the static flow stress; ``d`` the rate of deformation of the step.
+
+    Returns the corrected stress (6 values), ``d_eps_p``, the flow stress,
+    ``g_ratio`` as :func:`stress_update` does, and the new static flow stress
+    at ``eps_p + d_eps_p`` (at the temperature ``temp`` of the step start).
+    """
+    mu = mat[M_MU]
     theta = thermal_factor(temp, mat)
-    deps, sy = radial_return(q, eps_p, dt, theta, mat)
+    deps, sy, sy_static = radial_return(q, eps_p, dt, theta, mat)
     f = (q - 3.0 * mu * deps) / q
+    p = (t0 + t1 + t2) / 3.0
+    a0 = t0 - p
+    a1 = t1 - p
+    a2 = t2 - p
     # deviatoric increments: elastic trial (2 mu D' dt) vs actual (f a - s_old')
+    mu2 = 2.0 * mu * dt
     trd = (d0 + d1 + d2) / 3.0
     e0 = mu2 * (d0 - trd)
     e1 = mu2 * (d1 - trd)
@@ -267,7 +303,28 @@ def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt
         g_ratio = math.sqrt((u0 * u0 + u1 * u1 + u2 * u2 + 2.0 * (u3 * u3 + u4 * u4 + u5 * u5)) / den)
         if g_ratio > 1.0:
             g_ratio = 1.0
-    return p + f * a0, p + f * a1, p + f * a2, f * t3, f * t4, f * t5, deps, sy, g_ratio
+    return p + f * a0, p + f * a1, p + f * a2, f * t3, f * t4, f * t5, deps, sy, g_ratio, sy_static
+
+
+@jit
+def stress_update(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt, eps_p, sy_static, temp, mat):
+    """Jaumann-rotated hypo-elastic trial + Johnson-Cook radial return.
+
+    Stress ``s`` (Pa) and rate of deformation ``d`` (1/s, tensor components,
+    NOT engineering shear) in Voigt order xx yy zz yz xz xy; spin
+    ``w = (W_yz, W_xz, W_xy)`` (1/s, W = (L - L^T)/2). Returns the new stress
+    (6 values), ``d_eps_p``, the flow stress (Pa; the static one if elastic)
+    and ``g_ratio``: the ratio of the actual to the elastic-trial deviatoric
+    stress increment of the step (1 when elastic, ~E_t/E in steady plastic
+    flow), used to soften the hourglass stiffness of yielding elements; last
+    the static flow stress at the new plastic strain (the input one if elastic).
+    """
+    t0, t1, t2, t3, t4, t5 = jaumann_trial(s0, s1, s2, s3, s4, s5, d0, d1, d2, d3, d4, d5, w0, w1, w2, dt,
+                                           mat[M_LAM], mat[M_MU])
+    q = von_mises(t0, t1, t2, t3, t4, t5)
+    if q <= sy_static or dt <= 0.0:
+        return t0, t1, t2, t3, t4, t5, 0.0, sy_static, 1.0, sy_static
+    return plastic_correction(t0, t1, t2, t3, t4, t5, q, d0, d1, d2, d3, d4, d5, dt, eps_p, temp, mat)
 
 
 def material_point(material: "Material", path: str, strain_rate: float, total_strain: float, n_steps: int = 2000):
