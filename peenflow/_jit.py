@@ -4,9 +4,13 @@ Every kernel function is compiled through :func:`jit` so that caching, GIL
 release and fast-math policy are decided here, not scattered over modules.
 
 * ``cache=True``: compiled code is reused across processes (dask workers).
-  Numba's disk cache does not notice edits in *other* modules a function
-  calls, which is why result keys fingerprint the whole kernel package
-  (``peenflow.engine.fingerprint``) instead of trusting this cache.
+  Numba's disk cache checks only the source file of the function it
+  caches, not the modules it calls: after an edit of ``element.py`` the
+  cached ``solver.run_phase`` silently kept running the old element loop.
+  So the cache lives in a folder named by a hash of every kernel source file
+  (:func:`kernel_cache_dir`); any edit of the kernel starts a fresh cache.
+  Result keys likewise fingerprint the whole kernel package
+  (``peenflow.engine.fingerprint``).
 * ``nogil=True``: kernels release the GIL so threads can overlap them.
 * ``fastmath``: off by default; a caller may enable it only for a function
   where a test shows it harmless.
@@ -15,11 +19,42 @@ release and fast-math policy are decided here, not scattered over modules.
 
 from __future__ import annotations
 
+import hashlib
 import os
+from pathlib import Path
 
 import numba
 
 DISABLE_JIT = os.environ.get("PEENFLOW_DISABLE_JIT", "0") == "1"
+
+_PACKAGE = Path(__file__).resolve().parent
+
+
+def kernel_source_hash() -> str:
+    """SHA-256 (16 hex) of this file, every ``peenflow/fe/*.py`` and the numba version."""
+    h = hashlib.sha256(numba.__version__.encode())
+    for path in [Path(__file__).resolve(), *sorted((_PACKAGE / "fe").glob("*.py"))]:
+        h.update(path.name.encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def kernel_cache_dir() -> Path:
+    """Numba cache folder for this exact kernel source.
+
+    ``$NUMBA_CACHE_DIR`` (or ``$XDG_CACHE_HOME``, else ``~/.cache``) +
+    ``peenflow-numba/<kernel_source_hash>``.  Old folders are never read again;
+    delete them freely.
+    """
+    base = os.environ.get("NUMBA_CACHE_DIR") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "peenflow-numba")
+    return Path(base) / kernel_source_hash()
+
+
+if not DISABLE_JIT:
+    # Must be set before the first @jit below runs: numba picks a function's
+    # cache locator when it is decorated.
+    numba.config.CACHE_DIR = str(kernel_cache_dir())
 
 if not DISABLE_JIT:
     # Start numba's thread pool now, while the import lock serialises us: two
