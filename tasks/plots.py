@@ -118,11 +118,11 @@ def write_plots(graph, store, out_dir: Path) -> list[Path]:
         if "measured_stress_MPa" in prof:
             ax.plot(prof.measured_depth_m * 1e3, prof.measured_stress_MPa, "ks", label="measured")
         # On a thick part the peened layer is a small fraction of the depth:
-        # show three times the compressive layer rather than the whole part.
-        mean = prof.stress_xx_mean_MPa.values
-        tensile = np.nonzero(mean > 0)[0]
-        if tensile.size and 3 * z[tensile[0]] < z[-1]:
-            ax.set_xlim(0, 3 * z[tensile[0]])
+        # show 2.5 times the depth where |sigma_xx| last exceeds 5 % of its peak.
+        mean = np.abs(prof.stress_xx_mean_MPa.values)
+        significant = np.nonzero(mean > 0.05 * mean.max())[0]
+        if significant.size and 2.5 * z[significant[-1]] < z[-1]:
+            ax.set_xlim(0, 2.5 * z[significant[-1]])
         ax.axhline(0, color="k", lw=0.5)
         ax.set(xlabel="depth (mm)", ylabel="residual stress (MPa)", title="residual stress (mean +- spread)")
         ax.legend()
