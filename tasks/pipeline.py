@@ -32,6 +32,7 @@ from .indentation import indentation
 from .plots import write_plots
 from .residual_profile import residual_profile
 from .rev_size import rev_size
+from .rev_thickness import rev_thickness
 from .saturation import saturation
 from .single_impact import single_impact
 from .strip_runs import strip_runs
@@ -137,15 +138,21 @@ def build_graph(path) -> Graph:
             "material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg,
             "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(t.rev_thickness_m, IMPACT_BLOCK_D * D)})
         dent = g.add(indentation, upstream={"impact": imp_t}, stage="target_indentation")
+        thick_up = {}
+        if t.rev_thickness_auto:
+            thick_up["thickness"] = g.add(rev_thickness, upstream={"velocity": vel, "dent": dent},
+                                          stage="target_rev_thickness", params={
+                "material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg,
+                "half_width_m": IMPACT_BLOCK_D * D, "part_thickness_m": t.thickness_m})
         if t.rev_size_mm is None:
             dm_t = g.add(dmin, upstream={"impact": imp_t}, stage="target_dmin", params={
                 "material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg,
                 "thickness_m": min(t.rev_thickness_m, 2 * IMPACT_BLOCK_D * D), **dmin_settings})
-            rev_t = g.add(rev_size, upstream={"dmin": dm_t}, stage="target_rev", params={
+            rev_t = g.add(rev_size, upstream={"dmin": dm_t, **thick_up}, stage="target_rev", params={
                 "rule": "dmin", "thickness_m": t.rev_thickness_m, "shot_diameter_m": D,
                 "measure_side_m": None if t.measure_size_mm is None else t.measure_size_mm * 1e-3})
         else:
-            rev_t = g.add(rev_size, stage="target_rev", params={
+            rev_t = g.add(rev_size, upstream=thick_up, stage="target_rev", params={
                 "rule": "explicit", "thickness_m": t.rev_thickness_m, "shot_diameter_m": D,
                 "side_m": t.rev_size_mm * 1e-3,
                 "measure_side_m": None if t.measure_size_mm is None else t.measure_size_mm * 1e-3})
@@ -161,11 +168,10 @@ def build_graph(path) -> Graph:
                          params={"material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg},
                          point_params=lambda c: {"seed": study.seeds.seed("target", c["sequence"])})
         measured = read_measured_profile(Path(t.measured_profile_csv)) if t.measured_profile_csv else None
-        # The release is that of a plate peened on one whole face: only when
-        # the REV spans the part's thickness are the resultants the part's.
-        spans = abs(t.rev_thickness_m - t.thickness_mm * 1e-3) < 1e-12
-        free_part = {"thickness_m": t.rev_thickness_m, "young_modulus_Pa": t.material.youngs_modulus_Pa,
-                     "poisson_ratio": t.material.poisson_ratio} if spans else None
+        # The release is that of a plate peened on one whole face; the stage
+        # applies it only when the REV spans the part's thickness.
+        free_part = {"thickness_m": t.thickness_m, "young_modulus_Pa": t.material.youngs_modulus_Pa,
+                     "poisson_ratio": t.material.poisson_ratio}
         g.add(residual_profile, upstream={"runs": runs_t}, params={"measured": measured, "free_part": free_part})
 
     ex = study.execution

@@ -4,7 +4,8 @@ Top surface: a square of side 3 d_min with the d_min x d_min measuring region
 at its centre, d_min the largest over the angles searched (the paper sizes
 one strip REV from its 90° and 45° extremes).  The paper's fixed strip REV
 (6D x 6D, measuring 2D x 2D) and explicit sizes are the other rules.
-Thickness: given (the strip's, or the part's / a chosen REV thickness).
+Thickness: given (the strip's, or the part's / a chosen REV thickness), or
+from the single-impact convergence check of ``rev_thickness``.
 """
 
 from __future__ import annotations
@@ -15,10 +16,13 @@ import xarray as xr
 from ._common import peening_task, var
 
 
-@peening_task(version="1")
-def rev_size(dmin: xr.Dataset | None = None, *, rule: str, thickness_m: float,
-             shot_diameter_m: float, side_m: float | None = None,
+@peening_task(version="2")
+def rev_size(dmin: xr.Dataset | None = None, thickness: xr.Dataset | None = None, *, rule: str,
+             thickness_m: float, shot_diameter_m: float, side_m: float | None = None,
              measure_side_m: float | None = None) -> xr.Dataset:
+    """``thickness``: a rev_thickness result; it replaces ``thickness_m`` when given."""
+    if thickness is not None:
+        thickness_m = float(thickness.thickness_m)
     d_min = float("nan")
     if rule == "dmin":
         if dmin is None:

@@ -9,6 +9,7 @@ know the shot diameter once the Study is loaded.
 from __future__ import annotations
 
 import hashlib
+import math
 from typing import Annotated, Any, Literal, Optional
 
 from pydantic import AfterValidator, Field, PrivateAttr, StrictBool, model_validator
@@ -247,6 +248,14 @@ def _intensity_notation(text: str) -> str:
     return text
 
 
+def _auto_or_positive_number(value: Any) -> Any:
+    if value == "auto":
+        return value
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value > 0:
+        return float(value)
+    raise ValueError('expected "auto" or a number > 0')
+
+
 class Target(ShotScaled):
     """[target]: the real part (paper section 5)."""
 
@@ -268,7 +277,9 @@ class Target(ShotScaled):
     )
     rev_size_mm: Optional[Positive] = Field(None, description="REV side in mm (default 3 d_min from the two-shot search)")
     measure_size_mm: Optional[Positive] = Field(None, description="measuring-region side in mm (default rev_size_mm / 3, or d_min)")
-    rev_thickness_mm: Optional[Positive] = Field(None, description="REV thickness in mm (default: the part thickness)")
+    rev_thickness_mm: Optional[Annotated[Any, AfterValidator(_auto_or_positive_number)]] = Field(
+        None, description='REV thickness in mm, or "auto" (a single-impact convergence check; default: the part '
+                          'thickness)')
     measured_profile_csv: str = Field(
         "", description="CSV with columns depth_mm, stress_MPa, component for the comparison (\"\" = none)"
     )
@@ -294,7 +305,7 @@ class Target(ShotScaled):
                 )
         if self.velocity_m_s is not None and self.almen_strip is not None:
             raise ValueError("target.almen_strip goes with an intensity, not with target.velocity_m_s")
-        if self.rev_thickness_mm is not None and self.rev_thickness_mm > self.thickness_mm:
+        if isinstance(self.rev_thickness_mm, float) and self.rev_thickness_mm > self.thickness_mm:
             raise ValueError(
                 f"target.rev_thickness_mm = {self.rev_thickness_mm!r} is thicker than the part "
                 f"(thickness_mm = {self.thickness_mm!r})"
@@ -337,9 +348,18 @@ class Target(ShotScaled):
         return self.thickness_mm * 1e-3
 
     @property
+    def rev_thickness_auto(self) -> bool:
+        """True when the REV thickness comes from the convergence check (``"auto"``)."""
+        return self.rev_thickness_mm == "auto"
+
+    @property
     def rev_thickness_m(self) -> float:
-        """REV thickness: rev_thickness_mm, else the part thickness (as in section 5)."""
-        return (self.rev_thickness_mm or self.thickness_mm) * 1e-3
+        """REV thickness: rev_thickness_mm, else the part thickness (as in section 5).
+
+        With ``"auto"`` this is the part thickness, the most the check can return;
+        the REV run takes the checked value from its upstream stage."""
+        given = self.rev_thickness_mm if isinstance(self.rev_thickness_mm, float) else None
+        return (given or self.thickness_mm) * 1e-3
 
     @property
     def coverage_fraction(self) -> float:

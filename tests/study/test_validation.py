@@ -28,6 +28,8 @@ CASES = [
     ("int-as-string", {"almen.sequences": "6"}, ['almen.sequences = "6": expected an integer, got a string']),
     ("float-as-string", {"target.thickness_mm": "9.5"}, ['target.thickness_mm = "9.5": expected a number, got a string']),
     ("bool-as-number", {"shot.friction_coefficient": True}, ["shot.friction_coefficient = true: expected a number"]),
+    ("rev-thickness-word", {"target.rev_thickness_mm": "automatic"},
+     ['target.rev_thickness_mm = "automatic": expected "auto" or a number > 0']),
     ("string-as-bool", {"almen.allow_extrapolated_intensity": "yes"},
      ['almen.allow_extrapolated_intensity = "yes": expected true or false']),
     ("scalar-for-list", {"almen.velocities_m_s": 55.0}, ["almen.velocities_m_s = 55.0: expected a list"]),
