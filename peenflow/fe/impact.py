@@ -69,6 +69,12 @@ class Options:
     window_sponge : absorbing layer along the held window faces, as a fraction
       of the window's smaller extent (half width or depth); 0 = none.
     sponge_damping : its peak damping rate, x c_dilatational / layer thickness.
+    window_boundary : the window faces inside the mesh: "held" (fixed) or
+      "viscous-spring" (Lysmer-Kuhlemeyer dashpots in parallel with
+      point-source springs on top of the frozen reaction that held them,
+      :meth:`Model.window_boundary`).
+    boundary_spring, boundary_dashpot : scale the viscous-spring boundary's
+      springs / dashpots (1 = the standard values).
     settle_damping : damping factor for settling after each impact (x pi c_s / L).
     rest_ke_fraction, rest_v_fraction : "at rest" after an impact (x impact energy / speed).
     relax_method : global relaxation (snapshots, end): "static" (default:
@@ -108,6 +114,9 @@ class Options:
     window_lateral: float = 4.0
     window_depth: float = 4.0
     window_sponge: float = 0.0
+    window_boundary: str = "held"
+    boundary_spring: float = 1.0
+    boundary_dashpot: float = 1.0
     sponge_damping: float = 10.0
     settle_damping: float = 1.0
     rest_ke_fraction: float = 1e-6
@@ -137,6 +146,8 @@ class Options:
             raise ValueError("relax_method must be 'static' or 'dynamic'")
         if self.threads < 1:
             raise ValueError("threads must be >= 1")
+        if self.window_boundary not in ("held", "viscous-spring"):
+            raise ValueError("window_boundary must be 'held' or 'viscous-spring'")
 
 
 @dataclass(frozen=True)
@@ -324,6 +335,10 @@ def run_impacts(
                 hmin = float(np.min(np.diff(m_.z)))
                 sponge_n = max(2, int(round(options.window_sponge * ext / hmin)))
                 sponge_a = options.sponge_damping * material.wave_speed / (sponge_n * hmin)
+            boundary = None
+            if options.window and options.window_boundary == "viscous-spring":
+                boundary = model.window_boundary(win, hit_xy, spring=options.boundary_spring,
+                                                 dashpot=options.boundary_dashpot)
             cap = 0
             if options.record:
                 cap = 200_000
@@ -343,6 +358,7 @@ def run_impacts(
                 threads=options.threads,
                 sponge_layers=sponge_n,
                 sponge_alpha=sponge_a,
+                boundary=boundary,
                 where="impact",
                 shot_index=i,
             )

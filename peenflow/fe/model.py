@@ -15,6 +15,7 @@ import numpy as np
 
 from peenflow.fe import solver as S
 from peenflow.fe.boundary import node_fixity
+from peenflow.fe.element import element_rows
 from peenflow.fe.johnson_cook import M_RATE_ON, Material
 from peenflow.fe.mesh import BoxMesh
 from peenflow.fe.safety import check_status
@@ -34,6 +35,19 @@ class Target:
     mesh: BoxMesh
     lateral: str = "symmetric"
     bottom: str = "fixed"
+
+
+@dataclass(frozen=True)
+class WindowBoundary:
+    """Viscous-spring window faces (:meth:`Model.window_boundary`).
+
+    nodes : (nb,) node indices; stiffness : (nb, 3) N/m and damping :
+    (nb, 3) N s/m per global component (diagonal: the faces are axis-aligned).
+    """
+
+    nodes: np.ndarray
+    stiffness: np.ndarray
+    damping: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -132,11 +146,17 @@ class Model:
         threads: int = 1,
         sponge_layers: int = 0,
         sponge_alpha: float = 0.0,
+        boundary: "WindowBoundary | None" = None,
         where: str = "impact",
         shot_index=None,
         raise_on_error: bool = True,
     ) -> PhaseResult:
-        """Run one phase on ``state`` (in place) and raise on instability."""
+        """Run one phase on ``state`` (in place) and raise on instability.
+
+        ``boundary``: viscous-spring window faces (:meth:`window_boundary`)
+        instead of held ones; their frozen reactions are taken here, from the
+        window's element forces at the current state.
+        """
         win = np.ascontiguousarray(win, dtype=np.int64)
         hold = self.hold_flags(win)
         s = state
@@ -145,6 +165,14 @@ class Model:
         dt0, st = S.initial_dt(s.x, s.v, s.f, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat,
                                self.nnx, self.nny, self.nx, self.ny, win)
         check_status(st, where=where, shot_index=shot_index, time=float(s.ctl[S.C_TIME]))
+        if boundary is None:
+            bnodes = np.zeros(0, dtype=np.int64)
+            bk = bcd = bf0 = bx0 = np.zeros((0, 3))
+        else:
+            bnodes, bk, bcd = boundary.nodes, boundary.stiffness, boundary.damping
+            # the exterior's reaction that held the faces: balances the window's forces at the start
+            bf0 = -s.f[bnodes]
+            bx0 = s.x[bnodes].copy()
         ctl = s.ctl
         ctl[S.C_DT_PREV] = 0.0
         ctl[S.C_DT_NEXT] = dt0
@@ -168,11 +196,113 @@ class Model:
             mode, parallel, max_steps, record_every if record_capacity > 0 else 0,
             s.x, s.v, s.f, self.mass, self.bc, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat, self.mat_static,
             self.mesh.x, self.mesh.y, self.nnx, self.nny, self.nx, self.ny, win, hold,
-            shot, ctl, s.energy, rec, info, self.cand, self.dn,
+            shot, ctl, s.energy, rec, info, self.cand, self.dn, bnodes, bk, bcd, bf0, bx0,
         )
         if raise_on_error:
             check_status(status, where=where, shot_index=shot_index, time=float(ctl[S.C_TIME]))
+        if boundary is not None and status == S.ST_OK:
+            self._exterior_update(s, win, hold, bnodes, bx0, where, shot_index)
         return PhaseResult(int(status), info, rec[: int(info[S.I_NREC])].copy())
+
+    def _exterior_update(self, s: KernelState, win, hold, bnodes, bx0, where, shot_index) -> None:
+        """Let the exterior elements touching a viscous-spring face see how far its nodes moved.
+
+        The exterior is not integrated during the phase, so without this the
+        face nodes' displacement ``du`` would be lost to the elements on the
+        other side (they would take their moved shape as stress-free: an
+        eigenstrain at the window's edge, +50 MPa on the strip REV's
+        averaged profile). One element pass over that layer of elements
+        (rate term off) with ``v = du`` on the face nodes, ``v = 0`` on the
+        others and a 1 s step applies it, as a static relaxation's
+        correction would; the global relaxation then spreads it.
+        """
+        i0, i1, j0, j1, k0, k1 = (int(w) for w in win)
+        a0, a1 = i0 - int(hold[0]), i1 + int(hold[1])
+        b0, b1 = j0 - int(hold[2]), j1 + int(hold[3])
+        boxes = [(a0, a1, b0, b1, k1, k1 + int(hold[5]))]  # below the window (with the corners)
+        boxes += [(a0, i0, b0, b1, k0, k1), (i1, a1, b0, b1, k0, k1), (i0, i1, b0, j0, k0, k1), (i0, i1, j1, b1, k0, k1)]
+        v_save = s.v.copy()
+        f_save = s.f.copy()
+        s.v[:] = 0.0
+        s.v[bnodes] = s.x[bnodes] - bx0
+        for bi0, bi1, bj0, bj1, bk0, bk1 in boxes:
+            if bi1 <= bi0 or bj1 <= bj0 or bk1 <= bk0:
+                continue
+            _, st, wi, wp, wh, wv = element_rows(s.x, s.v, s.f, s.stress, s.eps_p, s.sy_static, s.hg, s.temp,
+                                                 self.vol0, self.mat_static, 1.0, self.nnx, self.nny, self.nx,
+                                                 self.ny, bi0, bi1, bj0, bj1, bk0, bk1)
+            check_status(st, where=where + " (exterior update)", shot_index=shot_index,
+                         time=float(s.ctl[S.C_TIME]))
+            s.energy[S.E_INT] += wi
+            s.energy[S.E_PL] += wp
+            s.energy[S.E_HG] += wh
+            s.energy[S.E_VISC] += wv
+        s.v[:] = v_save
+        s.f[:] = f_save
+
+    def window_boundary(self, win: np.ndarray, source: np.ndarray, *, spring: float = 1.0,
+                        dashpot: float = 1.0) -> "WindowBoundary | None":
+        """Viscous-spring boundary on the window faces interior to the mesh.
+
+        Each node of such a face gets, per unit of its tributary area ``A`` on
+        the face (outward normal ``n``): Lysmer-Kuhlemeyer dashpots
+        ``rho c_p`` normal and ``rho c_s`` tangential (they absorb plane
+        waves hitting the face head-on), in parallel with springs
+        ``alpha_N G / R`` normal and ``alpha_T G / R`` tangential, ``R`` the
+        node's distance from ``source`` (the impact point at z = 0),
+        ``alpha_N = 4/3``, ``alpha_T = 2/3`` (3-D viscous-spring boundary,
+        Liu et al. 2006, Earthq. Eng. Eng. Vib. 5:93): the static stiffness
+        of the exterior half-space seen from a point source, so the window
+        still rests on something while the shot presses slowly (contact
+        time >> wave transit) and while it settles. ``spring`` and
+        ``dashpot`` scale the two (1 = the values above). Nodes on two or
+        three faces (edges, corners) add the faces' contributions.
+
+        Returns None when no face is interior (full mesh).
+        """
+        hold = self.hold_flags(win)
+        if not hold.any():
+            return None
+        m = self.mesh
+        mat = self.material
+        rho = mat.density
+        G = mat.mu
+        cp = mat.wave_speed
+        cs = math.sqrt(G / rho)
+        alpha_n, alpha_t = 4.0 / 3.0, 2.0 / 3.0
+        i0, i1, j0, j1, k0, k1 = (int(w) for w in win)
+
+        def trib(ax, lo, hi):
+            idx = np.arange(lo, hi + 1)
+            return 0.5 * (ax[np.minimum(idx + 1, hi)] - ax[np.maximum(idx - 1, lo)])
+
+        tx, ty, tz = trib(m.x, i0, i1), trib(m.y, j0, j1), trib(m.z, k0, k1)
+        nx_, ny_, nz_ = i1 - i0 + 1, j1 - j0 + 1, k1 - k0 + 1
+        area = np.zeros((nz_, ny_, nx_, 3))  # tributary area on faces normal to x, y, z
+        if hold[0]:
+            area[:, :, 0, 0] += np.outer(tz, ty)
+        if hold[1]:
+            area[:, :, -1, 0] += np.outer(tz, ty)
+        if hold[2]:
+            area[:, 0, :, 1] += np.outer(tz, tx)
+        if hold[3]:
+            area[:, -1, :, 1] += np.outer(tz, tx)
+        if hold[4]:
+            area[0, :, :, 2] += np.outer(ty, tx)
+        if hold[5]:
+            area[-1, :, :, 2] += np.outer(ty, tx)
+        on = area.sum(axis=3) > 0
+        kk, jj, ii = np.nonzero(on)
+        nodes = (ii + i0) + self.nnx * ((jj + j0) + self.nny * (kk + k0))
+        a = area[kk, jj, ii]  # (nb, 3): area of the face normal to each axis
+        X = self.nodes0[nodes]
+        R = np.sqrt((X[:, 0] - source[0]) ** 2 + (X[:, 1] - source[1]) ** 2 + X[:, 2] ** 2)
+        R = np.maximum(R, float(np.min(np.diff(m.z))))
+        tot = a.sum(axis=1, keepdims=True)
+        # component c: normal on the faces normal to c, tangential on the others
+        stiff = spring * G / R[:, None] * (alpha_n * a + alpha_t * (tot - a))
+        damp = dashpot * rho * (cp * a + cs * (tot - a))
+        return WindowBoundary(nodes.astype(np.int64), np.ascontiguousarray(stiff), np.ascontiguousarray(damp))
 
     def settle_alpha(self, win: np.ndarray, settle_damping: float) -> float:
         """Mass-proportional damping rate (1/s) for settling a window / the mesh.

@@ -82,7 +82,7 @@ N_REC = 19
 
 @jit
 def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, alpha,
-                 sponge_w, sponge_a):
+                 sponge_w, sponge_a, bnodes, bk, bcd, bf0, bx0):
     """Velocity/position update of the window's nodes; zeroes ``f`` there.
 
     Nodes within ``sponge_w`` node layers of a held window face get extra
@@ -90,11 +90,43 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
     distance in layers): an absorbing layer that keeps the held faces from
     reflecting the impact's waves back to the contact.
 
-    Returns ``(KE, max speed, damping work)``.
+    Window-face nodes listed in ``bnodes`` (viscous-spring boundary, see
+    :meth:`peenflow.fe.model.Model.window_boundary`) are not held: they move
+    under the window's element forces plus the exterior's
+    ``bf0 - bk (x - bx0) - bcd v`` (N; per component, faces are axis-aligned
+    so the spring and dashpot matrices are diagonal). The dashpot is
+    integrated semi-implicitly like the mass damping. The work done on the
+    exterior joins the damping work.
+
+    Returns ``(KE, max speed, damping + boundary work)``.
     """
     ke = 0.0
     vmax2 = 0.0
     wd = 0.0
+    for q in range(bnodes.shape[0]):
+        n = bnodes[q]
+        im = dt_avg / mass[n]
+        b = bc[n]
+        s2 = 0.0
+        for a in range(3):
+            vo = v[n, a]
+            fb = bf0[q, a] - bk[q, a] * (x[n, a] - bx0[q, a])
+            al = alpha + bcd[q, a] / mass[n]
+            c1 = 1.0 - 0.5 * al * dt_avg
+            c2 = 1.0 / (1.0 + 0.5 * al * dt_avg)
+            vn = (c1 * vo + im * (f[n, a] + fb)) * c2
+            if b & (1 << a):
+                vn = 0.0
+            v[n, a] = vn
+            x[n, a] += dt * vn
+            f[n, a] = 0.0
+            s2 += vn * vn
+            vm = 0.5 * (vo + vn)
+            # work on the exterior (spring + frozen reaction + dashpot) and by the mass damping
+            wd += (al * mass[n] * vm - fb) * vm * dt_avg
+        ke += 0.5 * mass[n] * s2
+        if s2 > vmax2:
+            vmax2 = s2
     for k in range(nk0, nk1 + 1):
         hk = (k == nk0 and hold[4]) or (k == nk1 and hold[5])
         for j in range(nj0, nj1 + 1):
@@ -152,7 +184,7 @@ def run_phase(
     mode, parallel, max_steps, record_every,
     x, v, f, mass, bc, stress, eps_p, sy_static, hg, temp, vol0, mat_dyn, mat_static,
     xs_ref, ys_ref, nnx, nny, nx, ny, win, hold,
-    shot, ctl, energy, rec, info, cand, dn,
+    shot, ctl, energy, rec, info, cand, dn, bnodes, bk, bcd, bf0, bx0,
 ):
     """Integrate until the phase ends (see module docstring). All arrays are
     updated in place; ``info`` receives the phase summary, ``rec`` the records.
@@ -214,7 +246,7 @@ def run_phase(
         dt_avg = 0.5 * (dt_prev + dt)
         a_d = alpha if damping else 0.0
         ke, vmax, wd = _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, a_d,
-                                     sponge_w, ctl[C_SPONGE_A])
+                                     sponge_w, ctl[C_SPONGE_A], bnodes, bk, bcd, bf0, bx0)
         energy[E_DAMP] += wd
         ncon = 0
         if shot_active:
