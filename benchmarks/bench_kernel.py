@@ -6,6 +6,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_kernel.py rev          # one impact on the strip REV, window vs full
     PYTHONPATH=. python benchmarks/bench_kernel.py rev-relax    # global relaxation only (static vs dynamic), 1 and 20 shots
     PYTHONPATH=. python benchmarks/bench_kernel.py window       # window error vs full mesh: held / viscous-spring faces
+    PYTHONPATH=. python benchmarks/bench_kernel.py window-timing  # (last part of window) their cost, interleaved runs
     PYTHONPATH=. python benchmarks/bench_kernel.py hertz        # Hertz convergence table (quarter model)
     PYTHONPATH=. python benchmarks/bench_kernel.py plastic      # plastic dents at 25/55 m/s, refinement, rate on/off
 
@@ -220,7 +221,7 @@ def window_error(speed=55.0):
         model = Model(t, mat)
         model.multigrid()
         held = dict(window_boundary="held")
-        cases = [("viscous-spring 4 x 4 (default)", vs), ("held 4 x 4", held),
+        cases = [("viscous-spring 4 x 4", vs), ("held 4 x 4 (default)", held),
                  ("viscous-spring 3 x 3", dict(vs, window_lateral=3.0, window_depth=3.0)),
                  ("held 3 x 3", dict(held, window_lateral=3.0, window_depth=3.0))]
         if box == "strip REV":
@@ -246,6 +247,34 @@ def window_error(speed=55.0):
             print(f"| {name} | {100*(d/d0-1):+.2f} % | {100*(e/e0-1):+.2f} % | "
                   f"{100*np.abs(p-p0).max()/np.abs(p0).max():.2f} % | {ep.sum()/ep0.sum():.4f} | {i['wall']:.2f} s | "
                   f"{i['steps']} | {i['elements']} | {i['load']} |", flush=True)
+    window_timing()
+
+
+def window_timing(reps=4, speed=55.0):
+    """Impact + settle wall of the default 4 x 4 window, held vs viscous-spring faces, interleaved (same load)."""
+    from peenflow.fe.mesh import graded_box
+
+    mat = Material(**SAE1070)
+    shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[[0.0, 0.0, speed]], radius=R, density=7800.0)
+    tiny = Target(BoxMesh(*(np.linspace(-2e-4, 2e-4, 17),) * 2, np.linspace(0, 2e-4, 9)))
+    kinds = ("held", "viscous-spring")
+    for b in kinds:
+        run_impacts(tiny, mat, shots, Options(window_lateral=2.0, window_depth=2.0, window_boundary=b))
+    for name, t, n in (("strip REV", Target(rev_mesh()), reps),
+                       ("test box", Target(graded_box(0.6e-3, 0.6e-3, 25e-6, fine_half_width=0.15e-3,
+                                                      fine_depth=0.1e-3)), 2 * reps)):
+        walls = {b: [] for b in kinds}
+        steps = {}
+        load0 = loadavg()
+        for _ in range(n):
+            for b in kinds:
+                t0 = time.perf_counter()
+                r = run_impacts(t, mat, shots, Options(window_boundary=b, final_relaxation=False))
+                walls[b].append(time.perf_counter() - t0)
+                steps[b] = int(r.shots["steps"][0])
+        print(f"# {name}, {n} interleaved runs each (load {load0}/{loadavg()}): " + "; ".join(
+            f"{b} median {np.median(walls[b]):.2f} s, min {min(walls[b]):.2f} s, {steps[b]} steps" for b in kinds),
+            flush=True)
 
 
 def hertz_table(speeds=(55.0, 1.0), resolutions=(4, 6, 8)):
@@ -312,4 +341,4 @@ if __name__ == "__main__":
         rev(windows=((4.0, 4.0),), full=False, n_shots=20)
     else:
         {"throughput": throughput, "rev": rev, "hertz": hertz_table, "plastic": plastic_table,
-         "window": window_error}[what]()
+         "window": window_error, "window-timing": window_timing}[what]()

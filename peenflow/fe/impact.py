@@ -12,14 +12,17 @@ Event-driven time (one shot at a time, in the given order):
    around the landing point, ``window_lateral`` x the estimated contact radius
    laterally (plus the shot's tangential travel) and ``window_depth`` x it in
    depth; elements outside are not integrated. The window faces inside the
-   mesh stand on the exterior through a viscous-spring boundary
-   (``window_boundary="viscous-spring"``, default; :meth:`Model.window_boundary`):
-   Lysmer-Kuhlemeyer dashpots absorb the waves that held faces would send
-   back to the contact, springs (point-source half-space stiffness plus the
-   slab between the face and a held mesh face) carry the slow contact load
-   and the residual field; they start from the reaction that held the faces.
-   Once the shot has left, the exterior elements on the faces are told how
-   far the faces moved. ``window_boundary="held"``: faces fixed.
+   mesh are held fixed (``window_boundary="held"``, default), or stand on
+   the exterior through a viscous-spring boundary
+   (``window_boundary="viscous-spring"``; :meth:`Model.window_boundary`):
+   Lysmer-Kuhlemeyer dashpots absorb the waves that held faces send back to
+   the contact, springs (point-source half-space stiffness plus the slab
+   between the face and a held mesh face) carry the slow contact load and
+   the residual field, starting from the reaction that held the faces; once
+   the shot has left, the exterior elements on the faces are told how far
+   the faces moved. It halves the single-impact window error but is NOT
+   safe in a sequence yet (faces crossing earlier dents drift; BENCHMARKS.md
+   section 2).
    ``window=False`` integrates the whole mesh.
 3. When the shot has left (no node in contact, moving away) the window is
    damped (mass-proportional, :meth:`Model.settle_alpha`) until AT REST:
@@ -34,9 +37,10 @@ fully plastic radius (mean pressure ``3 A``) at the shot's normal speed
 (:mod:`peenflow.fe.shots`).
 
 Measured window error (BENCHMARKS.md section 2, ``bench_kernel.py window``;
-strip REV, 25 um, 55 m/s): dent depth +1.0 %, restitution -1.9 %, averaged
-sigma_x profile 1.8 % (max abs difference / max abs value; held faces:
-+1.7 %, +3 %, 3.9 %), for ~48x less work per impact. The global relaxation before reading a profile is
+strip REV, 25 um, 55 m/s, one impact): held faces (default) dent depth
++1.7 %, restitution +3 %, averaged sigma_x profile 3.9 % (max abs difference
+/ max abs value); viscous-spring faces +1.0 %, -1.9 %, 1.8 %; for ~48x less
+work per impact. The global relaxation before reading a profile is
 mandatory: the measuring region is wider than a window (static relaxation,
 ~10 s on the strip REV, ~9x less than dynamic relaxation).
 """
@@ -77,10 +81,12 @@ class Options:
     window_sponge : absorbing layer along the held window faces, as a fraction
       of the window's smaller extent (half width or depth); 0 = none.
     sponge_damping : its peak damping rate, x c_dilatational / layer thickness.
-    window_boundary : the window faces inside the mesh: "held" (fixed) or
-      "viscous-spring" (Lysmer-Kuhlemeyer dashpots in parallel with
-      point-source springs on top of the frozen reaction that held them,
-      :meth:`Model.window_boundary`).
+    window_boundary : the window faces inside the mesh: "held" (fixed;
+      default) or "viscous-spring" (Lysmer-Kuhlemeyer dashpots in parallel
+      with half-space + slab springs on top of the frozen reaction that held
+      them, :meth:`Model.window_boundary`; single impacts only for now: in a
+      sequence, faces that cross earlier dents drift and the run can fail
+      with a runaway energy, BENCHMARKS.md section 2).
     boundary_spring, boundary_dashpot : scale the viscous-spring boundary's
       springs / dashpots (1 = the standard values).
     boundary_slab : scales the springs' slab term (stiffness of the exterior
@@ -129,7 +135,7 @@ class Options:
     window_lateral: float = 4.0
     window_depth: float = 4.0
     window_sponge: float = 0.0
-    window_boundary: str = "viscous-spring"
+    window_boundary: str = "held"
     boundary_spring: float = 1.0
     boundary_dashpot: float = 1.0
     boundary_slab: float = 1.0
