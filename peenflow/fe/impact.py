@@ -363,7 +363,8 @@ def run_impacts(
             boundary = None
             if options.window and options.window_boundary == "viscous-spring":
                 boundary = model.window_boundary(win, hit_xy, spring=options.boundary_spring,
-                                                 dashpot=options.boundary_dashpot, slab=options.boundary_slab)
+                                                 dashpot=options.boundary_dashpot, slab=options.boundary_slab,
+                                                 eps_p=st.eps_p)
             cap = 0
             if options.record:
                 cap = 200_000

@@ -203,7 +203,7 @@ class Model:
         )
         if raise_on_error:
             check_status(status, where=where, shot_index=shot_index, time=float(ctl[S.C_TIME]))
-        if boundary is not None and status == S.ST_OK:
+        if boundary is not None and status == S.ST_OK and len(bnodes) > 0:
             self._exterior_update(s, win, hold, bnodes, bx0, where, shot_index)
         return PhaseResult(int(status), info, rec[: int(info[S.I_NREC])].copy())
 
@@ -244,7 +244,8 @@ class Model:
         s.f[:] = f_save
 
     def window_boundary(self, win: np.ndarray, source: np.ndarray, *, spring: float = 1.0,
-                        dashpot: float = 1.0, slab: float = 1.0) -> "WindowBoundary | None":
+                        dashpot: float = 1.0, slab: float = 1.0,
+                        eps_p: np.ndarray | None = None) -> "WindowBoundary | None":
         """Viscous-spring boundary on the window faces interior to the mesh.
 
         Each node of such a face gets, per unit of its tributary area on the
@@ -269,6 +270,12 @@ class Model:
         ``dashpot`` the dashpots, ``slab`` the slab term (1 = the values
         above). Nodes on two or three faces (edges, corners) add the faces'
         contributions.
+
+        Given ``eps_p`` (n_elements,), face nodes touching an element that
+        has already yielded stay held: there the frozen reaction acts as a
+        dead load on material at yield, which soft springs cannot stop from
+        flowing (a 20-shot sequence on the strip REV drifted such faces by
+        7 um and ran away; BENCHMARKS.md section 2).
 
         Returns None when no face is interior (full mesh).
         """
@@ -317,6 +324,16 @@ class Model:
             for c in range(3):
                 stiff[sl + (c,)] += spring * area * (kn if c == d else kt)
                 damp[sl + (c,)] += dashpot * rho * area * (cp if c == d else cs)
+        if eps_p is not None:
+            # nodes touching a yielded element (any of the up to 8 around it) stay held
+            ep = eps_p.reshape(self.nz, self.ny, self.nx)
+            yielded = np.pad(ep > 0.0, 1)  # element (k, j, i) at [k + 1, j + 1, i + 1]
+            near = np.zeros((self.nnz, self.nny, self.nnx), dtype=bool)
+            for dk in (0, 1):
+                for dj in (0, 1):
+                    for di in (0, 1):
+                        near |= yielded[dk:dk + self.nnz, dj:dj + self.nny, di:di + self.nnx]
+            on &= ~near[k0:k1 + 1, j0:j1 + 1, i0:i1 + 1]
         kk, jj, ii = np.nonzero(on)
         nodes = (ii + i0) + self.nnx * ((jj + j0) + self.nny * (kk + k0))
         stiff = stiff[kk, jj, ii]

@@ -214,6 +214,11 @@ def test_viscous_spring_coefficients():
     assert b1.stiffness[q, 2] == pytest.approx((4 / 3 * G / 0.5e-3 + rho * cp * cp / 0.5e-3) * h * h)
     assert b1.stiffness[q, 0] == pytest.approx((2 / 3 * G / 0.5e-3 + G / 0.5e-3) * h * h)
     assert m.window_boundary(m.full_window, (0.0, 0.0)) is None
+    # face nodes touching an element that has yielded stay held
+    ep = np.zeros(mesh.n_elements)
+    ep[20 + 40 * (20 + 40 * 9)] = 1e-3  # element just above the bottom face, under the impact point
+    b2 = m.window_boundary(win, (0.0, 0.0), eps_p=ep)
+    assert len(b2.nodes) == len(b0.nodes) - 4 and n not in b2.nodes
 
 
 def test_exterior_sees_the_face_displacement(vs55):
