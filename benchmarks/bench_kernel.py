@@ -7,6 +7,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_kernel.py rev-relax    # global relaxation only (static vs dynamic), 1 and 20 shots
     PYTHONPATH=. python benchmarks/bench_kernel.py window       # window error vs full mesh: held / viscous-spring faces
     PYTHONPATH=. python benchmarks/bench_kernel.py window-timing  # (last part of window) their cost, interleaved runs
+    PYTHONPATH=. python benchmarks/bench_kernel.py window-seq   # held / viscous-spring in 4- and 80-shot sequences (~25 min)
     PYTHONPATH=. python benchmarks/bench_kernel.py hertz        # Hertz convergence table (quarter model)
     PYTHONPATH=. python benchmarks/bench_kernel.py plastic      # plastic dents at 25/55 m/s, refinement, rate on/off
 
@@ -277,6 +278,57 @@ def window_timing(reps=4, speed=55.0):
             flush=True)
 
 
+def window_sequence(n_error=4, n_long=80, speed=55.0):
+    """Held vs viscous-spring window faces in shot sequences on the strip REV (shots over +-0.3 mm, seed 0).
+
+    (1) ``n_error`` shots: errors against the full mesh after a strict static
+    relaxation (the full-mesh run takes ~3 min per shot); (2) ``n_long``
+    shots, windowed only: largest per-shot energy balance error (runaway
+    check off, so a run that would stop at ``runaway_fraction`` is reported).
+    """
+    from peenflow.fe.model import Model
+    from peenflow.fe.relaxation import relax
+
+    mesh = rev_mesh()
+    t = Target(mesh)
+    mat = Material(**SAE1070)
+    m = Model(t, mat)
+    rng = np.random.default_rng(0)
+    n = max(n_error, n_long)
+    c = np.column_stack([rng.uniform(-0.3e-3, 0.3e-3, n), rng.uniform(-0.3e-3, 0.3e-3, n), np.full(n, -R - 1e-6)])
+    strict = Options(relax_ke_fraction=1e-13, relax_cg_rtol=1e-4)
+    nnx, nny, _ = mesh.shape_nodes
+    kinds = (("held (default)", dict(window_boundary="held")), ("viscous-spring", dict(window_boundary="viscous-spring")))
+    shots = Shots(centres=c[:n_error], velocities=[[0.0, 0.0, speed]] * n_error, radius=R, density=7800.0)
+    e_ref = 0.5 * shots.mass * speed**2
+    print(f"# strip REV, {n_error} shots at {speed:g} m/s over +-0.3 mm; loadavg {loadavg()}", flush=True)
+    out = {}
+    for name, kw in (("full", dict(window=False)),) + kinds:
+        t0 = time.perf_counter()
+        r = run_impacts(t, mat, shots, Options(final_relaxation=False, **kw))
+        wall = time.perf_counter() - t0
+        rs, _ = relax(m, r.final_state, strict, e_ref, speed)
+        _, p = profile(rs, mesh)
+        out[name] = ((rs.x - m.nodes0)[: nnx * nny, 2].max(), r.shots["restitution"], p, rs.eps_p.sum())
+        print(f"# {name}: impact + settle {wall:.1f} s (load {loadavg()}), largest energy error {r.energy_error:.3f}",
+              flush=True)
+    d0, e0, p0, s0 = out["full"]
+    print("| window faces | dent error | restitution error (mean; worst shot) | profile error | sum eps_p / full |")
+    print("|---|---|---|---|---|")
+    for name, _ in kinds:
+        d, e, p, s = out[name]
+        print(f"| {name} | {100*(d/d0-1):+.2f} % | {100*(e.mean()/e0.mean()-1):+.2f} %; {100*np.abs(e/e0-1).max():.2f} % | "
+              f"{100*np.abs(p-p0).max()/np.abs(p0).max():.2f} % | {s/s0:.4f} |", flush=True)
+    shots = Shots(centres=c[:n_long], velocities=[[0.0, 0.0, speed]] * n_long, radius=R, density=7800.0)
+    for name, kw in kinds:
+        t0 = time.perf_counter()
+        r = run_impacts(t, mat, shots, Options(final_relaxation=False, runaway_fraction=1e9, **kw))
+        err = r.shots["energy_error"]
+        print(f"# {n_long} shots, {name}: {time.perf_counter() - t0:.1f} s (load {loadavg()}); per-shot energy error "
+              f"max {err.max():.3f} (shot {int(np.argmax(err))}), mean {err.mean():.4f}, shots above the runaway "
+              f"threshold 0.25: {int(np.sum(err > 0.25))}", flush=True)
+
+
 def hertz_table(speeds=(55.0, 1.0), resolutions=(4, 6, 8)):
     mat = Material(E=205e9, nu=0.29, density=7800.0, A=1e13)
     print(f"# Hertz, quarter model, frictionless, extent 25 a; loadavg {loadavg()}")
@@ -341,4 +393,4 @@ if __name__ == "__main__":
         rev(windows=((4.0, 4.0),), full=False, n_shots=20)
     else:
         {"throughput": throughput, "rev": rev, "hertz": hertz_table, "plastic": plastic_table,
-         "window": window_error, "window-timing": window_timing}[what]()
+         "window": window_error, "window-timing": window_timing, "window-seq": window_sequence}[what]()
