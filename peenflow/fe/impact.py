@@ -93,7 +93,7 @@ class Options:
       between a face and a held mesh face; 0 = half-space springs only).
     boundary_settle : the viscous-spring faces while the window settles after
       the shot has left: "spring" (springs only: the dashpots would only slow
-      the settling, 400 instead of 230 steps on the strip REV), "viscous-spring"
+      the settling, 400 instead of 240 steps on the strip REV), "viscous-spring"
       (both), "held" (frozen where they are; not recommended: the exterior then
       receives the faces' dynamic sag and yields).
     settle_damping : damping factor for settling after each impact (x pi c_s / L).

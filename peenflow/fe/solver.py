@@ -194,7 +194,7 @@ def run_phase(
     while the window settles after the shot's separation: ``bnd_settle`` =
     0 springs and dashpots, 1 held where they are (their kinetic energy then
     joins the damping work), 2 springs only (the dashpots over-damp the
-    faces' slow static return: 400 instead of 230 settle steps on the strip
+    faces' slow static return: 400 instead of 240 settle steps on the strip
     REV; only the rest state matters then). Returns the status code."""
     i0, i1, j0, j1, k0, k1 = win[0], win[1], win[2], win[3], win[4], win[5]
     ni0, ni1, nj0, nj1, nk0, nk1 = i0, i1, j0, j1, k0, k1  # node index box (inclusive)
