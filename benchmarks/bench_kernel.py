@@ -5,6 +5,9 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_kernel.py throughput   # element-updates/s, 1 and 2 threads
     PYTHONPATH=. python benchmarks/bench_kernel.py rev          # one impact on the strip REV, window vs full
     PYTHONPATH=. python benchmarks/bench_kernel.py rev-relax    # global relaxation only (static vs dynamic), 1 and 20 shots
+    PYTHONPATH=. python benchmarks/bench_kernel.py window       # window error vs full mesh: held / viscous-spring faces
+    PYTHONPATH=. python benchmarks/bench_kernel.py window-timing  # (last part of window) their cost, interleaved runs
+    PYTHONPATH=. python benchmarks/bench_kernel.py window-seq   # held / viscous-spring in 4- and 80-shot sequences (~25 min)
     PYTHONPATH=. python benchmarks/bench_kernel.py hertz        # Hertz convergence table (quarter model)
     PYTHONPATH=. python benchmarks/bench_kernel.py plastic      # plastic dents at 25/55 m/s, refinement, rate on/off
 
@@ -198,6 +201,157 @@ def rev(windows=((4.0, 4.0), (3.0, 3.0), (6.0, 6.0)), full=True, speed=55.0, n_s
         print(" ".join(f"{z*1e6:.0f}:{s/1e6:.0f}" for z, s in zip(zs[:16], p0[:16])))
 
 
+def _window_case(t, mat, shots, opt, model, e_ref, speed, half):
+    """One run (impact + settle timed), then a strict static relaxation: (dent m, restitution, profile, eps_p, info)."""
+    from peenflow.fe.relaxation import relax
+
+    load0 = loadavg()
+    t0 = time.perf_counter()
+    res = run_impacts(t, mat, shots, opt)
+    wall = time.perf_counter() - t0
+    strict = Options(relax_ke_fraction=1e-13, relax_cg_rtol=1e-4)
+    rs, _ = relax(model, res.final_state, strict, e_ref, speed)
+    nnx, nny, _ = t.mesh.shape_nodes
+    _, p = profile(rs, t.mesh, half)
+    s = res.shots
+    n_el = int(((s["win_i1"] - s["win_i0"]) * (s["win_j1"] - s["win_j0"]) * (s["win_k1"] - s["win_k0"])).sum())
+    info = dict(wall=wall, steps=int(s["steps"].sum()), elements=n_el, load=f"{load0}/{loadavg()}")
+    return (rs.x - model.nodes0)[: nnx * nny, 2].max(), s["restitution"][0], p, rs.eps_p, info
+
+
+def window_error(speed=55.0):
+    """Window error against the full mesh (held vs viscous-spring window faces), strip REV and small test box.
+
+    Both sides are relaxed to rest over the whole mesh by a strict static
+    relaxation; profile error = max |delta sigma_xx| over depth / max |sigma_xx full|
+    (sigma_xx averaged per element layer over the measuring region).
+    """
+    from peenflow.fe.mesh import graded_box
+    from peenflow.fe.model import Model
+
+    mat = Material(**SAE1070)
+    shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[[0.0, 0.0, speed]], radius=R, density=7800.0)
+    e_ref = 0.5 * shots.mass * speed**2
+    vs = dict(window_boundary="viscous-spring")
+    # warm-up compile (both boundaries) on a tiny case
+    tiny = Target(BoxMesh(*(np.linspace(-2e-4, 2e-4, 17),) * 2, np.linspace(0, 2e-4, 9)))
+    for kw in (dict(window_boundary="held"), vs):
+        run_impacts(tiny, mat, Shots(centres=[[0, 0, -R - 1e-6]], velocities=[[0, 0, 10.0]], radius=R,
+                                     density=7800.0), Options(window_lateral=2.0, window_depth=2.0, **kw))
+    boxes = (("strip REV", Target(rev_mesh()), 0.58e-3),
+             ("test box (tests/fe/test_impact.py)",
+              Target(graded_box(0.6e-3, 0.6e-3, 25e-6, fine_half_width=0.15e-3, fine_depth=0.1e-3)), 0.15e-3))
+    for box, t, half in boxes:
+        model = Model(t, mat)
+        model.multigrid()
+        held = dict(window_boundary="held")
+        cases = [("viscous-spring 4 x 4", vs), ("held 4 x 4 (default)", held),
+                 ("viscous-spring 3 x 3", dict(vs, window_lateral=3.0, window_depth=3.0)),
+                 ("held 3 x 3", dict(held, window_lateral=3.0, window_depth=3.0))]
+        if box == "strip REV":
+            cases += [("viscous-spring 6 x 6", dict(vs, window_lateral=6.0, window_depth=6.0)),
+                      ("held 6 x 6", dict(held, window_lateral=6.0, window_depth=6.0)),
+                      ("held 4 x 4 + window_sponge=0.3", dict(held, window_sponge=0.3)),
+                      ("held, full width x 4 deep", dict(held, window_lateral=18.0)),
+                      ("viscous-spring 4 x 4, no slab term", dict(vs, boundary_slab=0.0)),
+                      ("viscous-spring 4 x 4, no dashpots", dict(vs, boundary_dashpot=0.0)),
+                      ("viscous-spring 4 x 4, dashpots kept while settling", dict(vs, boundary_settle="viscous-spring"))]
+        print(f"# {box}: {t.mesh.shape_elements} = {t.mesh.n_elements} elements, S230 at {speed:g} m/s normal; "
+              f"one thread; loadavg {loadavg()}", flush=True)
+        d0, e0, p0, ep0, i0 = _window_case(t, mat, shots, Options(window=False, final_relaxation=False), model,
+                                           e_ref, speed, half)
+        print(f"# full mesh: impact + settle {i0['wall']:.1f} s, {i0['steps']} steps (load {i0['load']}); dent "
+              f"{d0*1e6:.3f} um, restitution {e0:.4f}", flush=True)
+        print("| window | dent error | restitution error | profile error | sum eps_p / full | impact + settle wall "
+              "| steps | elements | load avg (start/end) |")
+        print("|---|---|---|---|---|---|---|---|---|")
+        for name, kw in cases:
+            d, e, p, ep, i = _window_case(t, mat, shots, Options(final_relaxation=False, **kw), model, e_ref, speed,
+                                          half)
+            print(f"| {name} | {100*(d/d0-1):+.2f} % | {100*(e/e0-1):+.2f} % | "
+                  f"{100*np.abs(p-p0).max()/np.abs(p0).max():.2f} % | {ep.sum()/ep0.sum():.4f} | {i['wall']:.2f} s | "
+                  f"{i['steps']} | {i['elements']} | {i['load']} |", flush=True)
+    window_timing()
+
+
+def window_timing(reps=4, speed=55.0):
+    """Impact + settle wall of the default 4 x 4 window, held vs viscous-spring faces, interleaved (same load)."""
+    from peenflow.fe.mesh import graded_box
+
+    mat = Material(**SAE1070)
+    shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[[0.0, 0.0, speed]], radius=R, density=7800.0)
+    tiny = Target(BoxMesh(*(np.linspace(-2e-4, 2e-4, 17),) * 2, np.linspace(0, 2e-4, 9)))
+    kinds = ("held", "viscous-spring")
+    for b in kinds:
+        run_impacts(tiny, mat, shots, Options(window_lateral=2.0, window_depth=2.0, window_boundary=b))
+    for name, t, n in (("strip REV", Target(rev_mesh()), reps),
+                       ("test box", Target(graded_box(0.6e-3, 0.6e-3, 25e-6, fine_half_width=0.15e-3,
+                                                      fine_depth=0.1e-3)), 2 * reps)):
+        walls = {b: [] for b in kinds}
+        steps = {}
+        load0 = loadavg()
+        for _ in range(n):
+            for b in kinds:
+                t0 = time.perf_counter()
+                r = run_impacts(t, mat, shots, Options(window_boundary=b, final_relaxation=False))
+                walls[b].append(time.perf_counter() - t0)
+                steps[b] = int(r.shots["steps"][0])
+        print(f"# {name}, {n} interleaved runs each (load {load0}/{loadavg()}): " + "; ".join(
+            f"{b} median {np.median(walls[b]):.2f} s, min {min(walls[b]):.2f} s, {steps[b]} steps" for b in kinds),
+            flush=True)
+
+
+def window_sequence(n_error=4, n_long=80, speed=55.0):
+    """Held vs viscous-spring window faces in shot sequences on the strip REV (shots over +-0.3 mm, seed 0).
+
+    (1) ``n_error`` shots: errors against the full mesh after a strict static
+    relaxation (the full-mesh run takes ~3 min per shot); (2) ``n_long``
+    shots, windowed only: largest per-shot energy balance error (runaway
+    check off, so a run that would stop at ``runaway_fraction`` is reported).
+    """
+    from peenflow.fe.model import Model
+    from peenflow.fe.relaxation import relax
+
+    mesh = rev_mesh()
+    t = Target(mesh)
+    mat = Material(**SAE1070)
+    m = Model(t, mat)
+    rng = np.random.default_rng(0)
+    n = max(n_error, n_long)
+    c = np.column_stack([rng.uniform(-0.3e-3, 0.3e-3, n), rng.uniform(-0.3e-3, 0.3e-3, n), np.full(n, -R - 1e-6)])
+    strict = Options(relax_ke_fraction=1e-13, relax_cg_rtol=1e-4)
+    nnx, nny, _ = mesh.shape_nodes
+    kinds = (("held (default)", dict(window_boundary="held")), ("viscous-spring", dict(window_boundary="viscous-spring")))
+    shots = Shots(centres=c[:n_error], velocities=[[0.0, 0.0, speed]] * n_error, radius=R, density=7800.0)
+    e_ref = 0.5 * shots.mass * speed**2
+    print(f"# strip REV, {n_error} shots at {speed:g} m/s over +-0.3 mm; loadavg {loadavg()}", flush=True)
+    out = {}
+    for name, kw in (("full", dict(window=False)),) + kinds:
+        t0 = time.perf_counter()
+        r = run_impacts(t, mat, shots, Options(final_relaxation=False, **kw))
+        wall = time.perf_counter() - t0
+        rs, _ = relax(m, r.final_state, strict, e_ref, speed)
+        _, p = profile(rs, mesh)
+        out[name] = ((rs.x - m.nodes0)[: nnx * nny, 2].max(), r.shots["restitution"], p, rs.eps_p.sum())
+        print(f"# {name}: impact + settle {wall:.1f} s (load {loadavg()}), largest energy error {r.energy_error:.3f}",
+              flush=True)
+    d0, e0, p0, s0 = out["full"]
+    print("| window faces | dent error | restitution error (mean; worst shot) | profile error | sum eps_p / full |")
+    print("|---|---|---|---|---|")
+    for name, _ in kinds:
+        d, e, p, s = out[name]
+        print(f"| {name} | {100*(d/d0-1):+.2f} % | {100*(e.mean()/e0.mean()-1):+.2f} %; {100*np.abs(e/e0-1).max():.2f} % | "
+              f"{100*np.abs(p-p0).max()/np.abs(p0).max():.2f} % | {s/s0:.4f} |", flush=True)
+    shots = Shots(centres=c[:n_long], velocities=[[0.0, 0.0, speed]] * n_long, radius=R, density=7800.0)
+    for name, kw in kinds:
+        t0 = time.perf_counter()
+        r = run_impacts(t, mat, shots, Options(final_relaxation=False, runaway_fraction=1e9, **kw))
+        err = r.shots["energy_error"]
+        print(f"# {n_long} shots, {name}: {time.perf_counter() - t0:.1f} s (load {loadavg()}); per-shot energy error "
+              f"max {err.max():.3f} (shot {int(np.argmax(err))}), mean {err.mean():.4f}, shots above the runaway "
+              f"threshold 0.25: {int(np.sum(err > 0.25))}", flush=True)
+
+
 def hertz_table(speeds=(55.0, 1.0), resolutions=(4, 6, 8)):
     mat = Material(E=205e9, nu=0.29, density=7800.0, A=1e13)
     print(f"# Hertz, quarter model, frictionless, extent 25 a; loadavg {loadavg()}")
@@ -261,4 +415,5 @@ if __name__ == "__main__":
         rev(windows=((4.0, 4.0),), full=False)
         rev(windows=((4.0, 4.0),), full=False, n_shots=20)
     else:
-        {"throughput": throughput, "rev": rev, "hertz": hertz_table, "plastic": plastic_table}[what]()
+        {"throughput": throughput, "rev": rev, "hertz": hertz_table, "plastic": plastic_table,
+         "window": window_error, "window-timing": window_timing, "window-seq": window_sequence}[what]()

@@ -18,8 +18,10 @@ Step ``n -> n+1`` (lumped mass, variable step)::
     element pass at x_{n+1}: stresses, forces f, next dt_e
 
 Window: nodes on a window face that is not a mesh face are held fixed (their
-elements outside the window are not integrated); nodes on mesh faces keep
-the mesh's boundary conditions (``bc`` masks).
+elements outside the window are not integrated), or, given a viscous-spring
+boundary (``bnodes``, see :func:`_node_update`), move against springs and
+dashpots that stand for the exterior; nodes on mesh faces keep the mesh's
+boundary conditions (``bc`` masks).
 
 Rate term at rest: while damping (settling, relaxation) the elements use
 ``mat_static`` (the Johnson-Cook rate term switched off). The rest state is
@@ -82,7 +84,7 @@ N_REC = 19
 
 @jit
 def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, alpha,
-                 sponge_w, sponge_a):
+                 sponge_w, sponge_a, bnodes, bk, bcd, bf0, bx0, bdash):
     """Velocity/position update of the window's nodes; zeroes ``f`` there.
 
     Nodes within ``sponge_w`` node layers of a held window face get extra
@@ -90,11 +92,43 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
     distance in layers): an absorbing layer that keeps the held faces from
     reflecting the impact's waves back to the contact.
 
-    Returns ``(KE, max speed, damping work)``.
+    Window-face nodes listed in ``bnodes`` (viscous-spring boundary, see
+    :meth:`peenflow.fe.model.Model.window_boundary`) are not held: they move
+    under the window's element forces plus the exterior's
+    ``bf0 - bk (x - bx0) - bdash bcd v`` (N; per component, faces are axis-aligned
+    so the spring and dashpot matrices are diagonal). The dashpot is
+    integrated semi-implicitly like the mass damping. The work done on the
+    exterior joins the damping work.
+
+    Returns ``(KE, max speed, damping + boundary work)``.
     """
     ke = 0.0
     vmax2 = 0.0
     wd = 0.0
+    for q in range(bnodes.shape[0]):
+        n = bnodes[q]
+        im = dt_avg / mass[n]
+        b = bc[n]
+        s2 = 0.0
+        for a in range(3):
+            vo = v[n, a]
+            fb = bf0[q, a] - bk[q, a] * (x[n, a] - bx0[q, a])
+            al = alpha + bdash * bcd[q, a] / mass[n]
+            c1 = 1.0 - 0.5 * al * dt_avg
+            c2 = 1.0 / (1.0 + 0.5 * al * dt_avg)
+            vn = (c1 * vo + im * (f[n, a] + fb)) * c2
+            if b & (1 << a):
+                vn = 0.0
+            v[n, a] = vn
+            x[n, a] += dt * vn
+            f[n, a] = 0.0
+            s2 += vn * vn
+            vm = 0.5 * (vo + vn)
+            # work on the exterior (spring + frozen reaction + dashpot) and by the mass damping
+            wd += (al * mass[n] * vm - fb) * vm * dt_avg
+        ke += 0.5 * mass[n] * s2
+        if s2 > vmax2:
+            vmax2 = s2
     for k in range(nk0, nk1 + 1):
         hk = (k == nk0 and hold[4]) or (k == nk1 and hold[5])
         for j in range(nj0, nj1 + 1):
@@ -152,11 +186,16 @@ def run_phase(
     mode, parallel, max_steps, record_every,
     x, v, f, mass, bc, stress, eps_p, sy_static, hg, temp, vol0, mat_dyn, mat_static,
     xs_ref, ys_ref, nnx, nny, nx, ny, win, hold,
-    shot, ctl, energy, rec, info, cand, dn,
+    shot, ctl, energy, rec, info, cand, dn, bnodes, bk, bcd, bf0, bx0, bnd_settle,
 ):
     """Integrate until the phase ends (see module docstring). All arrays are
     updated in place; ``info`` receives the phase summary, ``rec`` the records.
-    Returns the status code."""
+    Viscous-spring window faces (``bnodes``...; see :func:`_node_update`)
+    while the window settles after the shot's separation: ``bnd_settle`` =
+    0 springs and dashpots, 1 held where they are (their kinetic energy then
+    joins the damping work), 2 springs only (the dashpots over-damp the
+    faces' slow static return: 400 instead of 240 settle steps on the strip
+    REV; only the rest state matters then). Returns the status code."""
     i0, i1, j0, j1, k0, k1 = win[0], win[1], win[2], win[3], win[4], win[5]
     ni0, ni1, nj0, nj1, nk0, nk1 = i0, i1, j0, j1, k0, k1  # node index box (inclusive)
     dt_prev = ctl[C_DT_PREV]
@@ -170,6 +209,8 @@ def run_phase(
     om_c2 = ctl[C_OMEGA_C2]
     fscale = ctl[C_FORCE_SCALE]
     sponge_w = int(ctl[C_SPONGE_W])
+    nb = bnodes.shape[0]
+    bdash = 1.0
     shot_active = mode == MODE_IMPACT
     damping = mode == MODE_RELAX
     separated = False
@@ -214,7 +255,7 @@ def run_phase(
         dt_avg = 0.5 * (dt_prev + dt)
         a_d = alpha if damping else 0.0
         ke, vmax, wd = _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, a_d,
-                                     sponge_w, ctl[C_SPONGE_A])
+                                     sponge_w, ctl[C_SPONGE_A], bnodes[:nb], bk, bcd, bf0, bx0, bdash)
         energy[E_DAMP] += wd
         ncon = 0
         if shot_active:
@@ -244,6 +285,18 @@ def run_phase(
             if ncon == 0 and info[I_T_CONTACT] >= 0.0 and shot[5] < 0.0:
                 # left the surface: record the rebound, start settling
                 separated = True
+                if bnd_settle == 2:
+                    bdash = 0.0
+                if bnd_settle == 1 and nb > 0:
+                    for q in range(nb):
+                        n = bnodes[q]
+                        e_b = 0.5 * mass[n] * (v[n, 0] ** 2 + v[n, 1] ** 2 + v[n, 2] ** 2)
+                        energy[E_DAMP] += e_b
+                        ke -= e_b
+                        v[n, 0] = 0.0
+                        v[n, 1] = 0.0
+                        v[n, 2] = 0.0
+                    nb = 0
                 shot_active = False
                 damping = True
                 info[I_T_SEPARATE] = time + dt
