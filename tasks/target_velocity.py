@@ -75,7 +75,14 @@ def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | 
     lo, hi = curve.velocity_range
     i_lo, i_hi = sorted(float(x) for x in curve.intensity(np.array([lo, hi])))
     target = intensity_mm * MM
+    blended = isinstance(curve, AngleBlend)
+    used = (curve.lower.angle_deg, curve.upper.angle_deg) if blended else (curve.angle_deg,)
+    grid = control.velocity_m_s.values.astype(float)
     if not i_lo <= target <= i_hi:
+        if not allow_extrapolated:
+            # An extrapolated curve's range says nothing about the velocities
+            # needed: the ladder is the problem to report, not the velocities.
+            _check_saturated(control, used, grid)
         raise IntensityOutOfRange(
             f"target intensity {intensity_mm:.4g} mm is outside the control curve at {angle_deg} deg, "
             f"which spans {i_lo / MM:.4g}-{i_hi / MM:.4g} mm over {lo:g}-{hi:g} m/s: add velocities to "
@@ -83,9 +90,6 @@ def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | 
         )
     v = float(curve.velocity(target))
     if not allow_extrapolated:
-        blended = isinstance(curve, AngleBlend)
-        used = (curve.lower.angle_deg, curve.upper.angle_deg) if blended else (curve.angle_deg,)
-        grid = control.velocity_m_s.values.astype(float)
         bracket = sorted({float(grid[grid <= v].max()), float(grid[grid >= v].min())})
         _check_saturated(control, used, bracket)
     return xr.Dataset(

@@ -42,3 +42,13 @@ def test_an_extrapolated_bracketing_point_stops_with_the_ladder_to_use():
 def test_an_intensity_outside_the_curve_names_the_range():
     with pytest.raises(IntensityOutOfRange, match="spans 0.2-0.4 mm over 30-50 m/s"):
         target_velocity.fn(_control([0, 0, 0], [100, 200, 300]), intensity_mm=0.45, angle_deg=90.0)
+
+
+def test_outside_an_extrapolated_curve_the_ladder_is_what_is_reported():
+    """The paper_al7075_standard case: every point extrapolated and 0.30 mm below
+    them all -- the fix is a longer ladder, not more velocities."""
+    control = _control([1, 1, 1], [2800, 1400, 900])
+    with pytest.raises(ExtrapolatedIntensity, match="30 m/s at 90 deg: T = 2800 shots"):
+        target_velocity.fn(control, intensity_mm=0.15, angle_deg=90.0)
+    with pytest.raises(IntensityOutOfRange):
+        target_velocity.fn(control, intensity_mm=0.15, angle_deg=90.0, allow_extrapolated=True)
