@@ -92,7 +92,8 @@ def rev_thickness(velocity: xr.Dataset, dent: xr.Dataset, *, material: dict, sho
         z2, p2 = _column_profile(m2, r2, radius, depth)
         n = min(z1.size, z2.size)
         ds = float(np.max(np.abs(p1[:n] - p2[:n])) / np.max(np.abs(p2[:n])))
-        dd = abs(_dent_depth(r1) - _dent_depth(r2)) / _dent_depth(r2)
+        dent_thick = _dent_depth(r2)
+        dd = abs(_dent_depth(r1) - dent_thick) / dent_thick
         tried.append(h)
         stress_diff.append(ds)
         dent_diff.append(dd)

@@ -17,8 +17,6 @@ from __future__ import annotations
 
 import threading
 from collections import Counter
-from contextlib import contextmanager
-from typing import Iterator
 
 __all__ = ["CoreBudget", "wanted_threads", "active_budget", "set_active_budget"]
 
@@ -43,7 +41,6 @@ class CoreBudget:
         self.total = total
         self._free = total
         self._cond = threading.Condition()
-        self.peak_in_use = 0  # for tests and reports
 
     @property
     def in_use(self) -> int:
@@ -57,22 +54,13 @@ class CoreBudget:
                 self._cond.wait()
             n = max(1, min(wanted, self._free))
             self._free -= n
-            self.peak_in_use = max(self.peak_in_use, self.total - self._free)
             return n
 
     def release(self, n: int) -> None:
+        """Give back ``n`` threads taken by :meth:`acquire`."""
         with self._cond:
             self._free += n
             self._cond.notify_all()
-
-    @contextmanager
-    def grant(self, wanted: int) -> Iterator[int]:
-        """Hold between 1 and ``wanted`` threads (as many as are free) while inside."""
-        n = self.acquire(wanted)
-        try:
-            yield n
-        finally:
-            self.release(n)
 
 
 _active: CoreBudget | None = None

@@ -20,10 +20,12 @@ def test_wanted_threads_share_the_cores_between_a_stage_points():
 
 def test_budget_never_hands_out_more_than_it_holds():
     budget = CoreBudget(4)
-    with budget.grant(3) as a:
-        with budget.grant(3) as b:
-            assert (a, b) == (3, 1)
-            assert budget.in_use == 4
+    a = budget.acquire(3)
+    b = budget.acquire(3)
+    assert (a, b) == (3, 1)
+    assert budget.in_use == 4
+    budget.release(b)
+    budget.release(a)
     assert budget.in_use == 0
 
 
