@@ -7,7 +7,9 @@ Event-driven time (one shot at a time, in the given order):
 1. The target is at rest. The next shot flies in a straight line to the
    exact instant it first touches a top-surface node (:func:`time_to_contact`);
    no target step is taken during free flight. It is placed
-   ``options.lead_steps`` stable steps before that instant.
+   ``options.lead_steps`` stable steps before that instant, on its line (a
+   given centre that already overlaps a pile-up is put back upstream: the
+   shot comes from far away; :func:`time_to_contact`).
 2. Impact phase on the ACTIVE WINDOW (``options.window``): an element box
    around the landing point, ``window_lateral`` x the estimated contact radius
    laterally (plus the shot's tangential travel) and ``window_depth`` x it in
@@ -332,8 +334,8 @@ def run_impacts(
         row[0] = i
         row[5:8] = vel
         row[18] = e_imp / frac
-        t_hit = time_to_contact(st.x[:top], shot[0:3].copy(), vel, shots.radius) if speed > 0 else -1.0
-        if t_hit < 0:
+        t_hit = time_to_contact(st.x[:top], shot[0:3].copy(), vel, shots.radius) if speed > 0 else math.inf
+        if not math.isfinite(t_hit):
             row[1] = 0.0  # missed the target
             records.append(row)
         else:
@@ -341,9 +343,11 @@ def run_impacts(
             a_est, t_est = _contact_estimates(shots, material, abs(vel[2]))
             dt_est = options.dt_safety * float(np.min(np.diff(model.mesh.z))) / material.wave_speed
             lead = options.lead_steps * dt_est
-            t_fly = max(t_hit - lead / max(1.0, 1.0), 0.0)
+            # negative when the given centre overlaps the surface: the shot is
+            # put back on its line (time_to_contact), the clock never runs back
+            t_fly = t_hit - lead
             shot[0:3] += vel * t_fly
-            st.ctl[S.C_TIME] += t_fly
+            st.ctl[S.C_TIME] += max(t_fly, 0.0)
             hit_xy = shot[0:2] + vel[0:2] * (t_hit - t_fly)
             if options.window:
                 travel = 1.5 * t_est * vel[0:2]
