@@ -6,15 +6,17 @@ at 55 m/s delta = 12.86 um, a = 61.1 um, F = 234 N, t = 0.688 us; at 1 m/s
 
 Quarter model: symmetric planes x = 0 and y = 0 through the impact point,
 fine zone 2a x 2a x 1.5a with a / h elements across the contact radius,
-graded (1.2) to 25 a, fixed bottom, frictionless (Hertz).
+graded (1.2) to ``extent`` x a, fixed bottom, frictionless (Hertz).
 
-Measured (see BENCHMARKS.md for the full table): the errors do not change
-from a/h = 4 to 8 (no discretisation error left at this level); at 1 and
-20 m/s they are within 2-3 % and are mostly the stiffening of the truncated
-domain (approach low, force high, duration short); at 55 m/s the target
-holds ~4 % of the energy as kinetic energy at maximum compression and ~14 %
-as waves when the shot leaves (restitution 0.905), which quasi-static Hertz
-ignores: approach and peak force come out ~4 % low there.
+What is measured (BENCHMARKS.md section 3) and what the tolerances stand on:
+* the errors do not change from a/h = 4 to 8: no discretisation error left;
+* domain truncation: a fixed bottom at 25 a stiffens the target (1 m/s:
+  approach -1.3 %, force +2.8 %); at 100 a, -0.5 % / +1.1 %;
+* target inertia, which quasi-static Hertz leaves out: at 55 m/s the
+  approach and force are ~4 % low whatever the domain, but with the
+  target's density divided by 100 (same shot, same strains, waves 10x
+  faster) the same impact is within 2.2 % of Hertz. The large strains
+  (~14 % under the shot) are not the cause.
 """
 
 import numpy as np
@@ -30,14 +32,15 @@ R = 0.29e-3
 ELASTIC = Material(E=205e9, nu=0.29, density=7800.0, A=1e13)
 
 
-def hertz_run(speed, a_over_h, extent=25.0):
+def hertz_run(speed, a_over_h, extent=25.0, target_density=7800.0):
+    target_material = Material(E=ELASTIC.E, nu=ELASTIC.nu, density=target_density, A=ELASTIC.A)
     shots = Shots(centres=[[0.0, 0.0, -R - 1e-9]], velocities=[[0.0, 0.0, speed]], radius=R, density=7800.0)
     ref = hertz(R, shots.mass, speed, ELASTIC.E, ELASTIC.nu)
     a = ref["a"]
     h = a / a_over_h
     ax = graded_axis(2 * a, h, extent * a, 1.2)
     mesh = BoxMesh(ax, ax.copy(), graded_axis(1.5 * a, h, extent * a, 1.2))
-    res = run_impacts(Target(mesh), ELASTIC, shots, Options(window=False, friction=0.0))
+    res = run_impacts(Target(mesh), target_material, shots, Options(window=False, friction=0.0))
     s = res.shots
     got = {"delta": s["max_approach"][0], "a": s["contact_radius"][0], "F": s["peak_force"][0],
            "t": s["contact_duration"][0]}
@@ -54,11 +57,12 @@ def test_hertz_checks_formulas():
     assert ref["t"] == pytest.approx(0.688e-6, rel=1e-3)
 
 
-@pytest.mark.parametrize("speed", [1.0, 20.0])
-def test_hertz_low_speed(speed):
-    got, ref, res = hertz_run(speed, 4)
+@pytest.mark.parametrize("speed,extent,tol", [(1.0, 100.0, 0.02), (20.0, 25.0, 0.03)])
+def test_hertz_low_speed(speed, extent, tol):
+    # 1 m/s on a deep domain (measured <= 1.2 %); 20 m/s on the short one (<= 2.6 %)
+    got, ref, res = hertz_run(speed, 4, extent)
     for k in ("delta", "a", "F", "t"):
-        assert got[k] == pytest.approx(ref[k], rel=0.03), k
+        assert got[k] == pytest.approx(ref[k], rel=tol), k
     # elastic: the shot leaves with nearly all its energy (Hunter: wave loss ~1.04 (v/c0)^0.6)
     c0 = np.sqrt(ELASTIC.E / ELASTIC.density)
     assert res.shots["restitution"][0] ** 2 > 1 - 2.0 * 1.04 * (speed / c0) ** 0.6
@@ -66,12 +70,31 @@ def test_hertz_low_speed(speed):
     assert res.eps_p.max() == 0.0
 
 
-def test_hertz_55():
-    got, ref, res = hertz_run(55.0, 4)
+@pytest.fixture(scope="module")
+def hertz55():
+    return hertz_run(55.0, 4, extent=100.0)
+
+
+def test_hertz_55(hertz55):
+    # measured -3.8 % approach, -4.1 % force (target inertia, see the module docstring)
+    got, ref, res = hertz55
     for k in ("delta", "F"):
         assert got[k] == pytest.approx(ref[k], rel=0.05), k
     for k in ("a", "t"):
         assert got[k] == pytest.approx(ref[k], rel=0.03), k
+    assert res.energy_error < 0.01
+
+
+def test_hertz_55_without_target_inertia(hertz55):
+    """The 55 m/s impact on a target 100x lighter (waves 10x faster, same
+    stiffness, so the same strains): quasi-static Hertz within 3 % (measured
+    -0.9 % approach, +2.1 % force). So the ~4 % of test_hertz_55 is the
+    real target's inertia, and the approach is lower with it."""
+    got, ref, res = hertz_run(55.0, 4, extent=100.0, target_density=78.0)
+    for k in ("delta", "a", "F", "t"):
+        assert got[k] == pytest.approx(ref[k], rel=0.03), k
+    heavy = hertz55[0]
+    assert heavy["delta"] < got["delta"] * (1 - 0.02)
     assert res.energy_error < 0.01
 
 
