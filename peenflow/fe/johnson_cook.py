@@ -197,6 +197,7 @@ def radial_return(q_trial, q_old, eps_p, dt, theta, mat):
     rate_on = mat[M_RATE_ON] != 0.0
     d_kink = dt * mat[M_RATE0]
     rate_scale = 1.0 / d_kink
+    inv_c = 1.0 / C if C > 0.0 else 0.0
     p0 = eps_p ** n if eps_p > 0.0 else 0.0
     s_static = (A + B * p0) * theta
     hi = (q_trial - s_static) / mu3
@@ -205,22 +206,26 @@ def radial_return(q_trial, q_old, eps_p, dt, theta, mat):
     # start (see the docstring): model flow stress (s_static + h1 d + h2 d^2 / 2) R(d)
     h1 = 0.0
     h2 = 0.0
+    inv_ep = 0.0
     if eps_p > 0.0:
-        h1 = n * B * p0 / eps_p * theta
-        h2 = h1 * (n - 1.0) / eps_p
+        inv_ep = 1.0 / eps_p
+        h1 = n * B * p0 * inv_ep * theta
+        h2 = h1 * (n - 1.0) * inv_ep
     d = hi
+    d0 = -1.0  # the previous step's rate as an increment of this step (-1: none)
+    u0 = 0.0  # ln(d0 / d_kink)
     if rate_on and q_old > s_static * (1.0 + 1e-12):
-        r_old = q_old / s_static
-        u = (r_old - 1.0) / C
-        if u < 700.0:
-            d0 = d_kink * math.exp(u)  # the previous step's rate, as an increment of this step
-            if d0 < hi:
-                st = s_static + d0 * (h1 + 0.5 * h2 * d0)
-                fm = q_trial - mu3 * d0 - st * r_old
-                dfm = -mu3 - (h1 + h2 * d0) * r_old - st * C / d0
-                d = d0 - fm / dfm
-                if d <= 0.0:
-                    d = d0 * math.exp(-fm / (dfm * d0))
+        u = (q_old / s_static - 1.0) * inv_c
+        if u < 700.0 and d_kink * math.exp(u) < hi:
+            u0 = u
+            d0 = d_kink * math.exp(u)
+            r_old = 1.0 + C * u0
+            st = s_static + d0 * (h1 + 0.5 * h2 * d0)
+            fm = q_trial - mu3 * d0 - st * r_old
+            dfm = -(mu3 + (h1 + h2 * d0) * r_old) * d0 - st * C  # d fm / d ln d
+            d = d0 - fm * d0 / dfm
+            if d <= 0.0:
+                d = d0 * math.exp(-fm / dfm)
     else:
         d = (q_trial - s_static) / (mu3 + h1)
         d = (q_trial - s_static - 0.5 * h2 * d * d) / (mu3 + h1)
@@ -232,7 +237,19 @@ def radial_return(q_trial, q_old, eps_p, dt, theta, mat):
         e = eps_p + d
         if e < 1e-12:
             e = 1e-12
-        en = e ** n
+        x = d * inv_ep
+        if eps_p > 0.0 and x <= 0.01:
+            # (1 + x)^n by 7 terms of the binomial series (truncation < 1e-15): no pow
+            t = 1.0 + (n - 6.0) * 0.14285714285714285 * x
+            t = 1.0 + (n - 5.0) * 0.16666666666666666 * x * t
+            t = 1.0 + (n - 4.0) * 0.2 * x * t
+            t = 1.0 + (n - 3.0) * 0.25 * x * t
+            t = 1.0 + (n - 2.0) * 0.3333333333333333 * x * t
+            t = 1.0 + (n - 1.0) * 0.5 * x * t
+            t = 1.0 + n * x * t
+            en = p0 * t
+        else:
+            en = e ** n
         stat = A + B * en
         dstat = n * B * en / e
         R = 1.0
@@ -240,7 +257,13 @@ def radial_return(q_trial, q_old, eps_p, dt, theta, mat):
         if rate_on:
             r = d * rate_scale
             if r > 1.0:
-                R = 1.0 + C * math.log(r)
+                y = (d - d0) / d0
+                if d0 > 0.0 and abs(y) <= 0.01:
+                    # ln r = ln(d0 / d_kink) + ln(1 + y), 8 terms of the series (truncation < 1e-17): no log
+                    R = 1.0 + C * (u0 + y * (1.0 - y * (0.5 - y * (0.3333333333333333 - y * (
+                        0.25 - y * (0.2 - y * (0.16666666666666666 - y * (0.14285714285714285 - y * 0.125))))))))
+                else:
+                    R = 1.0 + C * math.log(r)
                 dR = C / d
         sy = stat * R * theta
         s_static = stat * theta
