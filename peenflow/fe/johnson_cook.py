@@ -155,12 +155,32 @@ def static_flow_stress(eps_p, theta, mat):
 
 
 @jit
-def radial_return(q_trial, eps_p, dt, theta, mat):
+def radial_return(q_trial, q_old, eps_p, dt, theta, mat):
     """Solve ``q_trial - 3 mu d = sigma_y(eps_p + d, d/dt)`` for ``d >= 0``.
 
-    Returns ``(d_eps_p, sigma_y, sigma_y_static)``: the flow stress at the
-    solution and the static flow stress ``(A + B (eps_p + d)^n)(1 - T*^m)``
-    there (Pa; the caller stores it, no extra ``pow``).
+    ``q_old``: von Mises stress of the (rotated) stress at the step start --
+    after a plastic step the flow stress of that step, which gives the start
+    of the iteration (below). Returns ``(d_eps_p, sigma_y, sigma_y_static)``:
+    the flow stress at the solution and the static flow stress
+    ``(A + B (eps_p + d)^n)(1 - T*^m)`` there (Pa; the caller stores it, no
+    extra ``pow``).
+
+    Start: the root of a model residual, without ``pow``/``log``: the
+    hardening ``B (eps_p + d)^n`` expanded to second order about ``eps_p``
+    (slopes from the one ``pow`` at ``eps_p`` needed for the bracket anyway)
+    and, when the element yielded in the previous step at a rate above the
+    reference rate (``q_old`` above the static flow stress), one Newton step
+    of that model from the previous step's rate, recovered from its rate
+    factor ``q_old / sigma_y_static = 1 + C ln(rate / eps_dot_0)`` by one
+    ``exp``; otherwise the rate-free model's root. In steady flow (a rate
+    changing by less than ~1 % a step) the first evaluation then already
+    satisfies ``|f| <= 1e-7 q``: one ``pow`` and one ``log`` per return plus
+    the bracket's ``pow``. Measured evaluations per return, starting from the
+    bracket end before: 4 -> 1 in the all-plastic throughput benchmark, 6.0 ->
+    2.6 in a 55 m/s impact (rates there change by up to tens of % a step).
+    The start only moves the first iterate; the iteration and its tolerance
+    are unchanged, so a poor start (first yield, ``eps_p`` small against
+    ``d``) costs iterations, never accuracy.
 
     Newton on ``d`` safeguarded by the bracket ``[lo, hi]``. A Newton step
     that would leave the bracket on the left (the rate term's ``ln d`` makes
@@ -177,18 +197,59 @@ def radial_return(q_trial, eps_p, dt, theta, mat):
     rate_on = mat[M_RATE_ON] != 0.0
     d_kink = dt * mat[M_RATE0]
     rate_scale = 1.0 / d_kink
-    s_static = static_flow_stress(eps_p, theta, mat)
+    inv_c = 1.0 / C if C > 0.0 else 0.0
+    p0 = eps_p ** n if eps_p > 0.0 else 0.0
+    s_static = (A + B * p0) * theta
     hi = (q_trial - s_static) / mu3
     if hi <= 0.0:
         return 0.0, q_trial, s_static
-    lo = 0.0
+    # start (see the docstring): model flow stress (s_static + h1 d + h2 d^2 / 2) R(d)
+    h1 = 0.0
+    h2 = 0.0
+    inv_ep = 0.0
+    if eps_p > 0.0:
+        inv_ep = 1.0 / eps_p
+        h1 = n * B * p0 * inv_ep * theta
+        h2 = h1 * (n - 1.0) * inv_ep
     d = hi
+    d0 = -1.0  # the previous step's rate as an increment of this step (-1: none)
+    u0 = 0.0  # ln(d0 / d_kink)
+    if rate_on and q_old > s_static * (1.0 + 1e-12):
+        u = (q_old / s_static - 1.0) * inv_c
+        if u < 700.0 and d_kink * math.exp(u) < hi:
+            u0 = u
+            d0 = d_kink * math.exp(u)
+            r_old = 1.0 + C * u0
+            st = s_static + d0 * (h1 + 0.5 * h2 * d0)
+            fm = q_trial - mu3 * d0 - st * r_old
+            dfm = -(mu3 + (h1 + h2 * d0) * r_old) * d0 - st * C  # d fm / d ln d
+            d = d0 - fm * d0 / dfm
+            if d <= 0.0:
+                d = d0 * math.exp(-fm / dfm)
+    else:
+        d = (q_trial - s_static) / (mu3 + h1)
+        d = (q_trial - s_static - 0.5 * h2 * d * d) / (mu3 + h1)
+    if not (0.0 < d < hi):
+        d = hi
+    lo = 0.0
     sy = q_trial
     for _ in range(60):
         e = eps_p + d
         if e < 1e-12:
             e = 1e-12
-        en = e ** n
+        x = d * inv_ep
+        if eps_p > 0.0 and x <= 0.01:
+            # (1 + x)^n by 7 terms of the binomial series (truncation < 1e-15): no pow
+            t = 1.0 + (n - 6.0) * 0.14285714285714285 * x
+            t = 1.0 + (n - 5.0) * 0.16666666666666666 * x * t
+            t = 1.0 + (n - 4.0) * 0.2 * x * t
+            t = 1.0 + (n - 3.0) * 0.25 * x * t
+            t = 1.0 + (n - 2.0) * 0.3333333333333333 * x * t
+            t = 1.0 + (n - 1.0) * 0.5 * x * t
+            t = 1.0 + n * x * t
+            en = p0 * t
+        else:
+            en = e ** n
         stat = A + B * en
         dstat = n * B * en / e
         R = 1.0
@@ -196,7 +257,13 @@ def radial_return(q_trial, eps_p, dt, theta, mat):
         if rate_on:
             r = d * rate_scale
             if r > 1.0:
-                R = 1.0 + C * math.log(r)
+                y = (d - d0) / d0
+                if d0 > 0.0 and abs(y) <= 0.01:
+                    # ln r = ln(d0 / d_kink) + ln(1 + y), 8 terms of the series (truncation < 1e-17): no log
+                    R = 1.0 + C * (u0 + y * (1.0 - y * (0.5 - y * (0.3333333333333333 - y * (
+                        0.25 - y * (0.2 - y * (0.16666666666666666 - y * (0.14285714285714285 - y * 0.125))))))))
+                else:
+                    R = 1.0 + C * math.log(r)
                 dR = C / d
         sy = stat * R * theta
         s_static = stat * theta
@@ -275,8 +342,6 @@ def plastic_correction(t0, t1, t2, t3, t4, t5, q, d0, d1, d2, d3, d4, d5, dt, ep
     """
     mu = mat[M_MU]
     theta = thermal_factor(temp, mat)
-    deps, sy, sy_static = radial_return(q, eps_p, dt, theta, mat)
-    f = (q - 3.0 * mu * deps) / q
     p = (t0 + t1 + t2) / 3.0
     a0 = t0 - p
     a1 = t1 - p
@@ -290,6 +355,10 @@ def plastic_correction(t0, t1, t2, t3, t4, t5, q, d0, d1, d2, d3, d4, d5, dt, ep
     e3 = mu2 * d3
     e4 = mu2 * d4
     e5 = mu2 * d5
+    # von Mises stress at the step start (rotated): trial deviator - elastic increment
+    q_old = von_mises(a0 - e0, a1 - e1, a2 - e2, t3 - e3, t4 - e4, t5 - e5)
+    deps, sy, sy_static = radial_return(q, q_old, eps_p, dt, theta, mat)
+    f = (q - 3.0 * mu * deps) / q
     den = e0 * e0 + e1 * e1 + e2 * e2 + 2.0 * (e3 * e3 + e4 * e4 + e5 * e5)
     g_ratio = 1.0
     if den > 0.0:
