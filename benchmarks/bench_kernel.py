@@ -280,6 +280,32 @@ def window_error(speed=55.0):
     window_timing()
 
 
+def window_size(cases=((4.0, 4.0), (4.0, 6.0), (4.0, 8.0), (4.0, 12.0), (6.0, 8.0), (3.0, 8.0), (18.0, 4.0)),
+                speed=55.0):
+    """Held window faces: error against the full mesh vs window lateral x depth (contact radii), strip REV, one shot."""
+    from peenflow.fe.model import Model
+
+    mat = Material(**SAE1070)
+    shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[[0.0, 0.0, speed]], radius=R, density=7800.0)
+    e_ref = 0.5 * shots.mass * speed**2
+    t = Target(rev_mesh())
+    model = Model(t, mat)
+    model.multigrid()
+    half = 0.58e-3
+    d0, e0, p0, ep0, i0 = _window_case(t, mat, shots, Options(window=False, final_relaxation=False), model, e_ref,
+                                       speed, half)
+    print(f"# strip REV, full mesh: {i0['wall']:.1f} s, {i0['steps']} steps (load {i0['load']})", flush=True)
+    print("| held window | dent error | restitution error | profile error | sum eps_p / full | wall | steps | elements "
+          "| load |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for lat, dep in cases:
+        d, e, p, ep, i = _window_case(t, mat, shots, Options(final_relaxation=False, window_lateral=lat,
+                                                             window_depth=dep), model, e_ref, speed, half)
+        print(f"| {lat:g} x {dep:g} | {100*(d/d0-1):+.2f} % | {100*(e/e0-1):+.2f} % | "
+              f"{100*np.abs(p-p0).max()/np.abs(p0).max():.2f} % | {ep.sum()/ep0.sum():.4f} | {i['wall']:.2f} s | "
+              f"{i['steps']} | {i['elements']} | {i['load']} |", flush=True)
+
+
 def window_timing(reps=4, speed=55.0):
     """Impact + settle wall of the default 4 x 4 window, held vs viscous-spring faces, interleaved (same load)."""
     from peenflow.fe.mesh import graded_box
@@ -327,7 +353,11 @@ def window_sequence(n_error=4, n_long=80, speed=55.0):
     c = np.column_stack([rng.uniform(-0.3e-3, 0.3e-3, n), rng.uniform(-0.3e-3, 0.3e-3, n), np.full(n, -R - 1e-6)])
     strict = Options(relax_ke_fraction=1e-13, relax_cg_rtol=1e-4)
     nnx, nny, _ = mesh.shape_nodes
-    kinds = (("held (default)", dict(window_boundary="held")), ("viscous-spring", dict(window_boundary="viscous-spring")))
+    kinds = (("held 4 x 4 (default)", dict(window_boundary="held")),
+             ("held 4 x 8", dict(window_boundary="held", window_depth=8.0)),
+             ("held 4 x 12", dict(window_boundary="held", window_depth=12.0)),
+             ("viscous-spring 4 x 4", dict(window_boundary="viscous-spring")),
+             ("viscous-spring 4 x 8", dict(window_boundary="viscous-spring", window_depth=8.0)))
     shots = Shots(centres=c[:n_error], velocities=[[0.0, 0.0, speed]] * n_error, radius=R, density=7800.0)
     e_ref = 0.5 * shots.mass * speed**2
     print(f"# strip REV, {n_error} shots at {speed:g} m/s over +-0.3 mm; loadavg {loadavg()}", flush=True)
@@ -338,18 +368,20 @@ def window_sequence(n_error=4, n_long=80, speed=55.0):
         wall = time.perf_counter() - t0
         rs, _ = relax(m, r.final_state, strict, e_ref, speed)
         _, p = profile(rs, mesh)
-        out[name] = ((rs.x - m.nodes0)[: nnx * nny, 2].max(), r.shots["restitution"], p, rs.eps_p.sum())
+        out[name] = ((rs.x - m.nodes0)[: nnx * nny, 2].max(), r.shots["restitution"], p, rs.eps_p.sum(), wall,
+                     r.energy_error)
         print(f"# {name}: impact + settle {wall:.1f} s (load {loadavg()}), largest energy error {r.energy_error:.3f}",
               flush=True)
-    d0, e0, p0, s0 = out["full"]
-    print("| window faces | dent error | restitution error (mean; worst shot) | profile error | sum eps_p / full |")
-    print("|---|---|---|---|---|")
+    d0, e0, p0, s0, _, _ = out["full"]
+    print("| window faces | dent error | restitution error (mean; worst shot) | profile error | sum eps_p / full | wall "
+          "| largest energy error |")
+    print("|---|---|---|---|---|---|---|")
     for name, _ in kinds:
-        d, e, p, s = out[name]
+        d, e, p, s, w, ee = out[name]
         print(f"| {name} | {100*(d/d0-1):+.2f} % | {100*(e.mean()/e0.mean()-1):+.2f} %; {100*np.abs(e/e0-1).max():.2f} % | "
-              f"{100*np.abs(p-p0).max()/np.abs(p0).max():.2f} % | {s/s0:.4f} |", flush=True)
+              f"{100*np.abs(p-p0).max()/np.abs(p0).max():.2f} % | {s/s0:.4f} | {w:.1f} s | {ee:.3f} |", flush=True)
     shots = Shots(centres=c[:n_long], velocities=[[0.0, 0.0, speed]] * n_long, radius=R, density=7800.0)
-    for name, kw in kinds:
+    for name, kw in (kinds[0], kinds[3]):
         t0 = time.perf_counter()
         r = run_impacts(t, mat, shots, Options(final_relaxation=False, runaway_fraction=1e9, **kw))
         err = r.shots["energy_error"]
@@ -435,4 +467,4 @@ if __name__ == "__main__":
         rev(windows=((4.0, 4.0),), full=False, n_shots=20)
     else:
         {"throughput": throughput, "rev": rev, "hertz": hertz_table, "plastic": plastic_table,
-         "window": window_error, "window-timing": window_timing, "window-seq": window_sequence}[what]()
+         "window": window_error, "window-timing": window_timing, "window-size": window_size, "window-seq": window_sequence}[what]()
