@@ -113,7 +113,9 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
     ke = 0.0
     vmax2 = 0.0
     wd = 0.0
-    if periodic:
+    # slaves lie on the last column / row: only a window reaching them ties
+    tie = periodic and (ni1 == nnx - 1 or nj1 == nny - 1)
+    if tie:
         for k in range(nk0, nk1 + 1):
             for j in range(nj0, nj1 + 1):
                 base = nnx * (j + nny * k)
@@ -163,7 +165,7 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
             base = nnx * (j + nny * k)
             for i in range(ni0, ni1 + 1):
                 n = base + i
-                if periodic and bc[n] & 24:
+                if tie and bc[n] & 24:
                     # slave: its master (lower index) is already updated
                     b = bc[n]
                     m = n

@@ -195,3 +195,14 @@ def test_task_targets():
     assert K.target(rev, f).lateral == "periodic"
     blk = K.impact_block(f, 0.6e-3, 0.6e-3, 0.2e-3, symmetric_x=True, symmetric_y=True)
     assert K.target(blk, f, impact_block=True).lateral == "symmetric"
+
+
+def test_shot_beyond_the_mesh_wraps():
+    t = block(24)
+    L = 24 * H
+    x = 0.5 * L + 2.5 * H  # lands 2.5 elements past the x+ face: the same as 2.5 past the x- face
+    a = run_impacts(t, MAT, shots_at([(x, 0.5 * H)]), Options(final_relaxation=False))
+    b = run_impacts(t, MAT, shots_at([(x - L, 0.5 * H)]), Options(final_relaxation=False))
+    assert a.shots["hit"][0] == 1.0
+    sa = a.final_state.stress
+    assert np.abs(b.final_state.stress - sa).max() <= 1e-9 * np.abs(sa).max()
