@@ -206,3 +206,14 @@ def test_shot_beyond_the_mesh_wraps():
     assert a.shots["hit"][0] == 1.0
     sa = a.final_state.stress
     assert np.abs(b.final_state.stress - sa).max() <= 1e-9 * np.abs(sa).max()
+
+
+@pytest.mark.parametrize("opts", [Options(window_boundary="viscous-spring", final_relaxation=False),
+                                  Options(window_sponge=0.2, final_relaxation=False)])
+def test_seam_shot_other_window_faces(opts):
+    """Viscous-spring and sponge window faces: the seam shot matches the centred one too."""
+    t = block(24)
+    a = run_impacts(t, MAT, shots_at([(0.5 * H, 0.5 * H)]), opts)
+    b = run_impacts(t, MAT, shots_at([(11.5 * H, 11.5 * H)]), opts)
+    sa = aligned(a.final_state.stress, t, 0)
+    assert np.abs(aligned(b.final_state.stress, t, 11) - sa).max() <= 1e-9 * np.abs(sa).max()
