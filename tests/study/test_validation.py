@@ -127,6 +127,8 @@ CASES = [
      ['almen: almen.rev_size_mm is given but rev_rule = "paper"']),
     ("profile-missing", {"target.measured_profile_csv": "nope.csv"},
      ["target.measured_profile_csv = ", "nope.csv", "measured profile not found"]),
+    ("periodic-rev-too-small", {"fidelity.lateral_boundary": "periodic", "target.rev_size_mm": 0.5},
+     ['target.rev_size_mm = 0.5: with fidelity.lateral_boundary = "periodic" the REV side must exceed']),
     ("nothing-to-compute", {"almen": DELETE, "target": DELETE}, ["nothing to compute: add an [almen] section"]),
 ]
 
