@@ -163,13 +163,39 @@ def test_periodic_threads_and_resume_bit_identical(monkeypatch):
             saved["state"] = exporter()
 
     a = run_impacts(t, MAT, sh, Options(), on_shot_done=cb)
-    b = run_impacts(t, MAT, sh, Options(threads=2))
     c = run_impacts(t, MAT, sh, Options(), state=saved["state"])
-    for o in (b, c):
-        assert np.array_equal(a.stress, o.stress) and np.array_equal(a.displacement, o.displacement)
-        assert np.array_equal(a.eps_p, o.eps_p)
-        for k in a.shots:
-            np.testing.assert_array_equal(a.shots[k], o.shots[k])
+    assert np.array_equal(a.stress, c.stress) and np.array_equal(a.displacement, c.displacement)
+    assert np.array_equal(a.eps_p, c.eps_p)
+    for k in a.shots:
+        np.testing.assert_array_equal(a.shots[k], c.shots[k])
+    # 2 threads: a tied full-mesh phase and a static relaxation (below); a whole
+    # seam-shot run in test_periodic_two_threads_whole_run (slow: on a loaded
+    # machine the parallel pass's per-step join costs ~10 ms)
+    m = Model(t, MAT)
+    e_ref = 0.5 * sh.mass * 40.0 ** 2
+    out = []
+    for threads in (1, 2):
+        st = a.final_state.copy()
+        st.v[:, 0] = 0.3 * np.sin(m.nodes0[:, 0] * 2 * np.pi / L)  # crosses the seam
+        m.unfold(st.v)
+        m.phase(st, S.MODE_RELAX, m.full_window, _no_shot(), safety=0.9, alpha=0.0, rest_ke=-1.0, rest_v=0.0,
+                e_ref=0.0, max_steps=30, threads=threads, raise_on_error=False)
+        rs, res = relax(m, st, Options(threads=threads), e_ref, 40.0)
+        assert res.status == S.ST_OK
+        out.append(rs)
+    assert np.array_equal(out[0].x, out[1].x) and np.array_equal(out[0].stress, out[1].stress)
+
+
+@pytest.mark.slow
+def test_periodic_two_threads_whole_run(monkeypatch):
+    from peenflow.fe import model
+
+    monkeypatch.setattr(model, "PARALLEL_MIN_ELEMENTS", 0)
+    t = block(24)
+    one = shots_at([(12 * H - H, 12 * H)], (0, 0, 40.0))
+    a = run_impacts(t, MAT, one, Options())
+    b = run_impacts(t, MAT, one, Options(threads=2))
+    assert np.array_equal(a.stress, b.stress) and np.array_equal(a.displacement, b.displacement)
 
 
 def test_contact_wider_than_half_the_period_is_refused():
@@ -217,3 +243,49 @@ def test_seam_shot_other_window_faces(opts):
     b = run_impacts(t, MAT, shots_at([(11.5 * H, 11.5 * H)]), opts)
     sa = aligned(a.final_state.stress, t, 0)
     assert np.abs(aligned(b.final_state.stress, t, 11) - sa).max() <= 1e-9 * np.abs(sa).max()
+
+
+def test_periodic_multigrid_is_the_tied_tangent_and_spd():
+    """Level 0 applies T^T K T (the folded element forces of an unfolded
+    displacement); the V-cycle is symmetric positive definite on the tied space."""
+    from peenflow.fe.element import element_rows
+    from peenflow.fe.multigrid import Multigrid, dot, mask_fixed
+
+    m = Model(block(16), MAT)
+    mg = Multigrid(m.mesh, m.bc, m.mat_static, periodic=True)
+    assert mg.n_levels >= 2
+    rng = np.random.default_rng(5)
+    n = len(m.nodes0)
+
+    def tied(a):
+        mask_fixed(a, m.bc)
+        a[m.bc & TIED != 0] = 0.0  # master-only vectors
+        return a
+
+    u = tied(rng.standard_normal((n, 3)) * 1e-10)
+    ku = np.empty_like(u)
+    mg.levels[0].apply(u, ku)
+    st = m.new_state()
+    uu = m.unfold(u.copy())
+    st.x[:] += uu
+    st.v[:] = uu
+    element_rows(st.x, st.v, st.f, st.stress, st.eps_p, np.full(m.mesh.n_elements, 1e300), st.hg, st.temp, m.vol0,
+                 m.mat_static, 1.0, m.nnx, m.nny, m.nx, m.ny, 0, m.nx, 0, m.ny, 0, m.nz)
+    f = m.fold(-st.f)
+    mask_fixed(f, m.bc)
+    assert np.abs(ku - f).max() < 1e-5 * np.abs(f).max()
+    a, b = tied(rng.standard_normal((n, 3))), tied(rng.standard_normal((n, 3)))
+    ma, mb = mg.vcycle(a), mg.vcycle(b)
+    assert not np.any(ma[m.bc & TIED != 0])
+    assert dot(a, ma) > 0 and dot(b, mb) > 0
+    assert dot(a, mb) == pytest.approx(dot(b, ma), rel=1e-9)
+
+
+def test_periodic_free_bottom_relaxes_dynamically():
+    """Free bottom: no static method (rigid lateral drift); dynamic relaxation with
+    tying, and the seam shot still matches the centred one."""
+    t = Target(block(24).mesh, lateral="periodic", bottom="free")
+    a = run_impacts(t, MAT, shots_at([(0.5 * H, 0.5 * H)]), Options())
+    b = run_impacts(t, MAT, shots_at([(11.5 * H, 11.5 * H)]), Options())
+    sa = aligned(a.stress, t, 0)
+    assert np.abs(aligned(b.stress, t, 11) - sa).max() <= 1e-6 * np.abs(sa).max()
