@@ -95,8 +95,16 @@ def rev_mesh(f: dict, side: float, thickness: float) -> BoxMesh:
     return BoxMesh(axis, axis.copy(), _z_axis(f, thickness))
 
 
-def target(mesh: BoxMesh, f: dict) -> Target:
-    return Target(mesh, lateral=f.get("lateral_boundary", "symmetric"), bottom="fixed")
+def target(mesh: BoxMesh, f: dict, impact_block: bool = False) -> Target:
+    """Fixed bottom; lateral faces from ``fidelity.lateral_boundary`` for a REV.
+
+    An impact block (single impact, two shots: :func:`impact_block`) is a
+    quarter / half model whose faces through the impact are symmetry planes,
+    so its lateral faces stay symmetric whatever the key says ("periodic"
+    needs the REV's uniform lateral spacing, and would tie a symmetry plane
+    to the far face)."""
+    lateral = "symmetric" if impact_block else f.get("lateral_boundary", "symmetric")
+    return Target(mesh, lateral=lateral, bottom="fixed")
 
 
 # -- shots ---------------------------------------------------------------------------

@@ -27,7 +27,7 @@ def run_single_impact(material: dict, shot: dict, fidelity: dict, speed: float, 
                           symmetric_x=normal, symmetric_y=True)
     centre, velocity = K.aimed_shot(shot, speed, angle_deg)
     mat = K.kernel_material(material)
-    result = K.run_impacts(K.target(mesh, fidelity), mat, K.make_shots(shot, centre, velocity),
+    result = K.run_impacts(K.target(mesh, fidelity, impact_block=True), mat, K.make_shots(shot, centre, velocity),
                            K.kernel_options(fidelity, shot, threads, record=record, record_every=4))
     return mesh, result
 

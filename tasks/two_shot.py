@@ -37,7 +37,7 @@ def two_shot_surface(material, shot, fidelity, speed, angle_deg, d, half_width, 
         c2, v2 = K.aimed_shot(shot, speed, angle_deg, (0.5 * d, 0.0))
         centres, velocities = [c1, c2], [v1, v2]
     mat = K.kernel_material(material)
-    res = K.run_impacts(K.target(mesh, fidelity), mat, K.make_shots(shot, centres, velocities),
+    res = K.run_impacts(K.target(mesh, fidelity, impact_block=True), mat, K.make_shots(shot, centres, velocities),
                         K.kernel_options(fidelity, shot, threads))
     stress, _ = K.grid_fields(mesh, res.stress, res.eps_p)
     vm = K.von_mises(stress[0]).T

@@ -5,7 +5,16 @@ Bit 0/1/2 set = the x/y/z velocity of the node is held at zero.
 * bottom face (``z = z_max``): ``"fixed"`` (all three components; the
   paper's "embedding" condition) or ``"free"``;
 * lateral faces: ``"symmetric"`` -- zero normal displacement (x-faces hold x,
-  y-faces hold y), as in the paper (§4.1, §5) -- or ``"free"``.
+  y-faces hold y), as in the paper (§4.1, §5) -- ``"free"``, or
+  ``"periodic"``: the node ``i = nnx - 1`` is the image of ``i = 0`` (same
+  ``j, k``) shifted by the period ``Lx = x[-1] - x[0]``, likewise ``j``
+  (period ``Ly``); the corner column chains to ``(0, 0)``. Such a *slave*
+  node carries the bit ``TIE_X`` and/or ``TIE_Y`` instead of a fixity; its
+  master is ``n - TIE_X*(nnx - 1) - TIE_Y*nnx*(nny - 1)`` (bits read as 0/1).
+  The solver folds a slave's force into its master, moves the master with
+  their combined mass and copies its velocity (position + period) to the
+  slave (:func:`peenflow.fe.solver._node_update`). The period is fixed: no
+  mean in-plane strain of the cell, as with symmetric faces.
 
 A quarter model (shot at a corner, symmetric faces through the impact point)
 is just a box whose ``x_min`` and ``y_min`` faces are symmetric planes; the
@@ -20,8 +29,11 @@ import numpy as np
 from peenflow.fe.mesh import BoxMesh
 
 FIX_X, FIX_Y, FIX_Z = 1, 2, 4
+#: periodic slave node: image of the node ``nnx - 1`` columns before it (TIE_X) / ``nny - 1`` rows (TIE_Y)
+TIE_X, TIE_Y = 8, 16
+TIED = TIE_X | TIE_Y
 
-_LATERAL = ("symmetric", "free")
+_LATERAL = ("symmetric", "free", "periodic")
 _BOTTOM = ("fixed", "free")
 
 
@@ -36,6 +48,31 @@ def node_fixity(mesh: BoxMesh, lateral: str = "symmetric", bottom: str = "fixed"
         bc[:, :, -1] |= FIX_X
         bc[:, 0, :] |= FIX_Y
         bc[:, -1, :] |= FIX_Y
+    if lateral == "periodic":
+        bc[:, :, -1] |= TIE_X
+        bc[:, -1, :] |= TIE_Y
     if bottom == "fixed":
         bc[-1, :, :] |= FIX_X | FIX_Y | FIX_Z
     return bc.ravel()
+
+
+def check_periodic_mesh(mesh: BoxMesh) -> None:
+    """Periodic lateral faces need a uniform lateral spacing (the driver moves the
+    state by whole elements to keep each impact away from the seam)."""
+    for name in ("x", "y"):
+        a = getattr(mesh, name)
+        h = np.diff(a)
+        if len(h) < 2:
+            raise ValueError(f"periodic lateral faces: the {name} axis needs at least 2 elements")
+        if np.max(np.abs(h - h.mean())) > 1e-9 * h.mean():
+            raise ValueError(
+                f"periodic lateral faces need a uniform lateral spacing; the {name} axis is not uniform "
+                f"(element sizes {h.min():.6g} to {h.max():.6g} m)")
+
+
+def tie_masters(bc: np.ndarray, nnx: int, nny: int) -> np.ndarray:
+    """Per node: its master (itself for an untied node), (n_nodes,) int64."""
+    n = np.arange(len(bc), dtype=np.int64)
+    tx = (bc & TIE_X) != 0
+    ty = (bc & TIE_Y) != 0
+    return n - tx * (nnx - 1) - ty * nnx * (nny - 1)

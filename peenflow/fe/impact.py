@@ -34,6 +34,21 @@ Event-driven time (one shot at a time, in the given order):
    brought to static equilibrium over the whole mesh
    (:mod:`peenflow.fe.relaxation`) and stored.
 
+Periodic lateral faces (``Target(lateral="periodic")``, uniform lateral
+spacing): the target is translation-invariant laterally, so before a shot
+whose window (or, without a window, whose contact zone) would reach the
+seam, the whole state is ROLLED by whole elements (:meth:`Model.roll`) to
+bring its landing point to the middle of the mesh; the shot runs with an
+ordinary window, and the state is rolled back once it has settled. A shot
+landing beyond the mesh wraps into it. A window wider than the period spans
+it along that axis and the solver ties the faces (slave forces folded into
+masters, slaves follow; :func:`peenflow.fe.solver._node_update`); the
+relaxations work on the tied space. The shot's contact zone must fit in
+half a period (ValueError otherwise). The recorded window (``win_*``) is in
+the target's frame and may extend past the mesh (it wraps); recorded shot
+centres likewise. No symmetric mass fraction applies. Effect against
+symmetric faces on a REV: BENCHMARKS.md section 2.
+
 The estimated contact radius is the larger of the Hertz radius and Johnson's
 fully plastic radius (mean pressure ``3 A``) at the shot's normal speed
 (:mod:`peenflow.fe.shots`).
@@ -258,6 +273,37 @@ def _shot_vector(shots: Shots, i: int, model: Model, friction: float) -> tuple[n
     return s, frac
 
 
+def _periodic_shift(model: Model, shot: np.ndarray, vel: np.ndarray, shots: Shots, material: Material,
+                    options: "Options") -> tuple[int, int]:
+    """Whole-element roll (:meth:`Model.roll`) that keeps a shot's window and
+    contact clear of a periodic target's seam (0, 0 when they already are).
+
+    The landing point is where the sphere's lowest point reaches ``z = 0`` on
+    its line; the reach around it is the window's (``options.window``) or the
+    contact's search box plus the tangential travel (full-mesh runs). The
+    contact must fit in half a period (ValueError otherwise)."""
+    R = shots.radius
+    t_l = (-R - shot[2]) / vel[2]
+    xl, yl = shot[0] + vel[0] * t_l, shot[1] + vel[1] * t_l
+    a_est, t_est = _contact_estimates(shots, material, abs(vel[2]))
+    travel = 1.5 * t_est * vel[0:2]
+    h = (model.mesh.x_step, model.mesh.y_step)
+    # the contact search box (1.25 R + travel) and a margin of two elements
+    contact = [1.25 * R + abs(travel[a]) + 2.0 * h[a] for a in (0, 1)]
+    for a, L in enumerate(model.period):
+        if 2.0 * contact[a] >= L:
+            raise ValueError(
+                f"periodic target: the period along {'xy'[a]} ({L:.4g} m) is too short for the shot's contact "
+                f"zone (2 x {contact[a]:.4g} m: 1.25 R + tangential travel + 2 elements each side)")
+    if options.window:
+        lat = options.window_lateral * a_est
+        reach = [(lat + max(-travel[a], 0.0), lat + max(travel[a], 0.0)) for a in (0, 1)]
+        reach = [(max(lo, c), max(hi, c)) for (lo, hi), c in zip(reach, contact)]
+    else:
+        reach = [(c, c) for c in contact]
+    return model.periodic_shift(xl, yl, reach[0], reach[1])
+
+
 def _contact_estimates(shots: Shots, material: Material, vn: float) -> tuple[float, float]:
     """(contact radius m, contact time s) estimates for window sizing."""
     h = hertz(shots.radius, shots.mass, max(vn, 1e-9), material.E, material.nu)
@@ -334,6 +380,14 @@ def run_impacts(
         row[0] = i
         row[5:8] = vel
         row[18] = e_imp / frac
+        sx = sy = 0
+        if model.periodic and vel[2] > 0:
+            sx, sy = _periodic_shift(model, shot, vel, shots, material, options)
+            if sx or sy:
+                model.roll(st, sx, sy)
+                # the shot moves with the material; one landing beyond the domain wraps into it
+                shot[0] -= sx * model.mesh.x_step
+                shot[1] -= sy * model.mesh.y_step
         t_hit = time_to_contact(st.x[:top], shot[0:3].copy(), vel, shots.radius) if speed > 0 else math.inf
         if not math.isfinite(t_hit):
             row[1] = 0.0  # missed the target
@@ -360,6 +414,12 @@ def run_impacts(
                 )
             else:
                 win = model.full_window
+            if model.periodic:
+                # a window that reaches the seam spans the period (the tying needs both sides)
+                if win[0] == 0 or win[1] == model.nx:
+                    win[0], win[1] = 0, model.nx
+                if win[2] == 0 or win[3] == model.ny:
+                    win[2], win[3] = 0, model.ny
             sponge_n, sponge_a = 0, 0.0
             if options.window and options.window_sponge > 0:
                 m_ = model.mesh
@@ -409,7 +469,7 @@ def run_impacts(
             row[15] = info[S.I_MAX_RADIUS]
             row[16] = info[S.I_STEPS]
             row[17] = info[S.I_E_ERR] / e_imp
-            row[19:25] = win
+            row[19:25] = win + np.array([sx, sx, sy, sy, 0, 0])  # periodic: may extend beyond the mesh (wraps)
             row[25] = math.sqrt(2.5 * info[S.I_R2_AT_PEAK])
             row[26] = info[S.I_HG_PEAK] / e_imp
             records.append(row)
@@ -421,6 +481,10 @@ def run_impacts(
                     "w_hourglass": r[:, 14], "w_viscous": r[:, 15], "e_contact": r[:, 16], "e_damping": r[:, 17],
                     "dt": r[:, 18], "mass_fraction": frac,
                 })
+                if sx or sy:
+                    histories[-1]["centre"] += np.array([sx * model.mesh.x_step, sy * model.mesh.y_step, 0.0])
+        if sx or sy:
+            model.roll(st, -sx, -sy)
         st.shot_index[0] = i + 1
         if (i + 1) in snap_set:
             rs, _ = relax(model, st, options, e_ref, v_ref, where=f"snapshot relaxation after {i + 1} shots")

@@ -125,6 +125,16 @@ class BoxMesh:
         nx, ny, nz = self.shape_elements
         return nx * ny * nz
 
+    @property
+    def x_step(self) -> float:
+        """Mean element size along x (m): THE size on a uniform axis."""
+        return float((self.x[-1] - self.x[0]) / (len(self.x) - 1))
+
+    @property
+    def y_step(self) -> float:
+        """Mean element size along y (m)."""
+        return float((self.y[-1] - self.y[0]) / (len(self.y) - 1))
+
     def node_coordinates(self) -> np.ndarray:
         """Reference node positions, (n_nodes, 3) m, numbering ``i + nnx*(j + nny*k)``."""
         zz, yy, xx = np.meshgrid(self.z, self.y, self.x, indexing="ij")

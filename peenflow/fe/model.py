@@ -14,7 +14,7 @@ import numba
 import numpy as np
 
 from peenflow.fe import solver as S
-from peenflow.fe.boundary import node_fixity
+from peenflow.fe.boundary import TIE_X, TIE_Y, TIED, check_periodic_mesh, node_fixity, tie_masters
 from peenflow.fe.element import element_rows
 from peenflow.fe.johnson_cook import M_RATE_ON, Material
 from peenflow.fe.mesh import BoxMesh
@@ -38,12 +38,29 @@ PARALLEL_MIN_ELEMENTS = 20_000
 class Target:
     """The target: a structured mesh and its boundary conditions.
 
-    mesh : BoxMesh (m);  lateral : "symmetric" | "free";  bottom : "fixed" | "free".
+    mesh : BoxMesh (m);  lateral : "symmetric" | "free" | "periodic";  bottom : "fixed" | "free".
+
+    ``"periodic"`` ties the lateral faces (:mod:`peenflow.fe.boundary`) and
+    needs a uniform lateral spacing along x and y (ValueError otherwise):
+    the driver moves the state by whole elements so that each impact's
+    window stays clear of the seam (:func:`peenflow.fe.impact.run_impacts`).
     """
 
     mesh: BoxMesh
     lateral: str = "symmetric"
     bottom: str = "fixed"
+
+    def __post_init__(self):
+        if self.lateral not in ("symmetric", "free", "periodic"):
+            raise ValueError(f"lateral must be 'symmetric', 'free' or 'periodic', not {self.lateral!r}")
+        if self.bottom not in ("fixed", "free"):
+            raise ValueError(f"bottom must be 'fixed' or 'free', not {self.bottom!r}")
+        if self.lateral == "periodic":
+            check_periodic_mesh(self.mesh)
+
+    @property
+    def periodic(self) -> bool:
+        return self.lateral == "periodic"
 
 
 @dataclass(frozen=True)
@@ -80,12 +97,27 @@ class Model:
         self.nodes0 = mesh.node_coordinates()
         self.centroids = mesh.element_centroids()
         self.vol0 = mesh.element_volumes()
-        self.mass = mesh.lumped_mass(material.density)
         self.bc = node_fixity(mesh, target.lateral, target.bottom)
+        self.periodic = target.periodic
+        self.nnx, self.nny, self.nnz = mesh.shape_nodes
+        mass = mesh.lumped_mass(material.density)
+        if self.periodic:
+            # a master moves with its slaves' mass; a slave's own entry is 0
+            self.masters = tie_masters(self.bc, self.nnx, self.nny)
+            self._slaves = np.nonzero(self.bc & TIED)[0]
+            tied = mass.copy()
+            tied[self._slaves] = 0.0
+            np.add.at(tied, self.masters[self._slaves], mass[self._slaves])  # in node order: deterministic
+            mass = tied
+            self.period = (float(mesh.x[-1] - mesh.x[0]), float(mesh.y[-1] - mesh.y[0]))
+        else:
+            self.masters = None
+            self.period = None
+        #: lumped nodal masses (kg); periodic: a master's includes its slaves', a slave's is 0
+        self.mass = mass
         self.mat = material.to_array(bulk_linear, bulk_quadratic, hourglass, hourglass_plastic_floor)
         self.mat_static = self.mat.copy()
         self.mat_static[M_RATE_ON] = 0.0
-        self.nnx, self.nny, self.nnz = mesh.shape_nodes
         self.nx, self.ny, self.nz = mesh.shape_elements
         self.cand = np.zeros(self.nnx * self.nny, dtype=np.int64)
         self.dn = np.zeros((self.nnx * self.nny, 4))
@@ -101,11 +133,80 @@ class Model:
                                                                     self.mat_static))
             mg = _MULTIGRID_CACHE.get(key)
             if mg is None:
-                mg = Multigrid(self.mesh, self.bc, self.mat_static)
+                mg = Multigrid(self.mesh, self.bc, self.mat_static, periodic=self.periodic)
                 _MULTIGRID_CACHE.clear()  # keep one: a hierarchy of the strip REV is ~100 MB
                 _MULTIGRID_CACHE[key] = mg
             self._multigrid = mg
         return self._multigrid
+
+    def fold(self, f: np.ndarray) -> np.ndarray:
+        """Periodic target: add each slave's entry of ``f`` (n_nodes, 3) to its
+        master's and zero it (in place, fixed order); other targets: unchanged."""
+        if self.periodic:
+            slaves = self._slaves
+            np.add.at(f, self.masters[slaves], f[slaves])
+            f[slaves] = 0.0
+        return f
+
+    def unfold(self, u: np.ndarray) -> np.ndarray:
+        """Periodic target: copy each master's entry of ``u`` to its slaves (in place)."""
+        if self.periodic:
+            u[self._slaves] = u[self.masters[self._slaves]]
+        return u
+
+    def roll(self, state: KernelState, sx: int, sy: int) -> None:
+        """Periodic target: move the material by ``(-sx, -sy)`` whole elements, in place.
+
+        What was at element column ``i`` is afterwards at ``(i - sx) mod nx``
+        (rows likewise): the displacements ``x - X0``, velocities, forces and
+        every element field are permuted; slaves are unfolded again. The
+        target is translation-invariant laterally (uniform spacing), so a
+        rolled state is the same physical state seen from another origin;
+        ``roll(s, -sx, -sy)`` undoes it up to the round-off of ``x - X0``.
+        """
+        if not self.periodic:
+            raise ValueError("roll: only a periodic target can be rolled")
+        sx %= self.nx
+        sy %= self.ny
+        if sx == 0 and sy == 0:
+            return
+        nnz, nny, nnx, nz, ny, nx = self.nnz, self.nny, self.nnx, self.nz, self.ny, self.nx
+
+        def nodal(a, unfold):
+            # on a new array, assigned back (a reshape of a non-contiguous array would be a copy)
+            a3 = np.array(a).reshape(nnz, nny, nnx, 3)
+            u = np.roll(a3[:, :ny, :nx], (-sy, -sx), axis=(1, 2))
+            a3[:, :ny, :nx] = u
+            a3[:, :ny, nx] = u[:, :, 0] if unfold else 0.0
+            a3[:, ny, :] = a3[:, 0, :] if unfold else 0.0
+            a[:] = a3.reshape(a.shape)
+
+        u = state.x - self.nodes0
+        nodal(u, True)
+        state.x[:] = self.nodes0 + u
+        lx, ly = self.period
+        slaves = self._slaves
+        state.x[slaves] = state.x[self.masters[slaves]]
+        state.x[slaves, 0] += np.where(self.bc[slaves] & TIE_X, lx, 0.0)
+        state.x[slaves, 1] += np.where(self.bc[slaves] & TIE_Y, ly, 0.0)
+        nodal(state.v, True)
+        nodal(state.f, False)
+        for a in (state.stress, state.eps_p, state.sy_static, state.hg, state.temp):
+            a[:] = np.roll(a.reshape((nz, ny, nx) + a.shape[1:]), (-sy, -sx), axis=(1, 2)).reshape(a.shape)
+
+    def periodic_shift(self, xl: float, yl: float, reach_x: tuple, reach_y: tuple) -> tuple[int, int]:
+        """Whole-element shift ``(sx, sy)`` for :meth:`roll` that keeps
+        ``[xl - reach_x[0], xl + reach_x[1]] x [...]`` clear of the seam: 0
+        along an axis where that box already is (at least one element from
+        it), else the one that brings ``xl`` (``yl``) to the middle column (row)."""
+        out = []
+        for c, (lo, hi), ax, n in ((xl, reach_x, self.mesh.x, self.nx), (yl, reach_y, self.mesh.y, self.ny)):
+            if c - lo >= ax[1] and c + hi <= ax[-2]:
+                out.append(0)
+            else:
+                h = (ax[-1] - ax[0]) / n
+                out.append(int(math.floor((c - ax[0]) / h)) - n // 2)
+        return out[0], out[1]
 
     def new_state(self) -> KernelState:
         m = self.material
@@ -170,6 +271,13 @@ class Model:
         2 springs only; :func:`peenflow.fe.solver.run_phase`).
         """
         win = np.ascontiguousarray(win, dtype=np.int64)
+        if self.periodic:
+            for a, (lo, hi, n) in enumerate(((win[0], win[1], self.nx), (win[2], win[3], self.ny))):
+                if (lo == 0) != (hi == n):
+                    raise ValueError(
+                        f"periodic target: a window that reaches the lateral seam must span the period along "
+                        f"{'xy'[a]} (element box {tuple(int(w) for w in win)}); the driver moves the state so "
+                        "that windows stay clear of the seam")
         hold = self.hold_flags(win)
         s = state
         # forces and stable step at the current state, from the window's elements
@@ -177,6 +285,7 @@ class Model:
         dt0, st = S.initial_dt(s.x, s.v, s.f, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat,
                                self.nnx, self.nny, self.nx, self.ny, win)
         check_status(st, where=where, shot_index=shot_index, time=float(s.ctl[S.C_TIME]))
+        self.fold(s.f)
         if boundary is None:
             bnodes = np.zeros(0, dtype=np.int64)
             bk = bcd = bf0 = bx0 = np.zeros((0, 3))
@@ -210,6 +319,7 @@ class Model:
             s.x, s.v, s.f, self.mass, self.bc, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat, self.mat_static,
             self.mesh.x, self.mesh.y, self.nnx, self.nny, self.nx, self.ny, win, hold,
             shot, ctl, s.energy, rec, info, self.cand, self.dn, bnodes, bk, bcd, bf0, bx0, boundary_settle,
+            self.periodic,
         )
         if raise_on_error:
             check_status(status, where=where, shot_index=shot_index, time=float(ctl[S.C_TIME]))
@@ -348,6 +458,14 @@ class Model:
         nodes = (ii + i0) + self.nnx * ((jj + j0) + self.nny * (kk + k0))
         stiff = stiff[kk, jj, ii]
         damp = damp[kk, jj, ii]
+        if self.periodic and np.any(self.bc[nodes] & TIED):
+            # a slave on a face (window spanning the period): its springs and dashpots act on its master
+            mnodes = self.masters[nodes]
+            uniq, inv = np.unique(mnodes, return_inverse=True)
+            st_, dp_ = np.zeros((len(uniq), 3)), np.zeros((len(uniq), 3))
+            np.add.at(st_, inv, stiff)
+            np.add.at(dp_, inv, damp)
+            nodes, stiff, damp = uniq, st_, dp_
         return WindowBoundary(nodes.astype(np.int64), np.ascontiguousarray(stiff), np.ascontiguousarray(damp))
 
     def settle_alpha(self, win: np.ndarray, settle_damping: float) -> float:

@@ -37,6 +37,14 @@ iteration) before and after the coarse correction, trilinear prolongation,
 restriction = its transpose. As a preconditioner for conjugate gradients
 (:func:`pcg`) it is symmetric positive definite.
 
+Periodic lateral faces (``periodic=True``; slave nodes flagged in ``bc``,
+:mod:`peenflow.fe.boundary`): every level works on master-only vectors
+(slave entries 0) with ``K_p = T^T K T`` (``T`` copies each master to its
+slaves): apply = unfold, box ``K``, fold; Jacobi diagonal = a master's plus
+its slaves'; restriction folds the coarse residual, prolongation unfolds the
+coarse correction first. Every level keeps both end nodes of each axis, so
+the coarse grids are periodic in the same way; the cycle stays SPD.
+
 All loops are serial and in a fixed order: results do not depend on the
 numba thread count.
 """
@@ -302,6 +310,47 @@ def _axpy(y, a, x):
 
 
 @jit
+def fold_tied(r, bc, nnx, nny):
+    """Periodic slaves (``bc`` bits 8 / 16, :mod:`peenflow.fe.boundary`): add each
+    slave's entry of ``r`` to its master's and zero it (in place)."""
+    for n in range(r.shape[0]):
+        b = bc[n]
+        if b & 24:
+            m = n
+            if b & 8:
+                m -= nnx - 1
+            if b & 16:
+                m -= nnx * (nny - 1)
+            for c in range(3):
+                r[m, c] += r[n, c]
+                r[n, c] = 0.0
+
+
+@jit
+def unfold_tied(u, bc, nnx, nny):
+    """Periodic slaves: copy each master's entry of ``u`` to its slaves (in place)."""
+    for n in range(u.shape[0]):
+        b = bc[n]
+        if b & 24:
+            m = n
+            if b & 8:
+                m -= nnx - 1
+            if b & 16:
+                m -= nnx * (nny - 1)
+            for c in range(3):
+                u[n, c] = u[m, c]
+
+
+@jit
+def _mask_tied(r, bc):
+    for n in range(r.shape[0]):
+        if bc[n] & 24:
+            r[n, 0] = 0.0
+            r[n, 1] = 0.0
+            r[n, 2] = 0.0
+
+
+@jit
 def mask_fixed(r, bc):
     """Zero the fixed dofs (``bc`` bits) of ``r`` (n_nodes, 3) in place."""
     for n in range(r.shape[0]):
@@ -334,20 +383,30 @@ class Level:
     lam_max: float = 1.0
     interp: tuple | None = None  # prolongation from the next coarser level (cx0, cx1, wx, cy0, ...)
     coarse_inv: np.ndarray | None = None  # dense inverse on the coarsest level
+    periodic: bool = False  # tied lateral faces: vectors live on the masters (slaves 0)
 
     def apply(self, u, out):
-        apply_k(u, out, self.ke, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
+        if self.periodic:
+            # K_p = T^T K T on master-only vectors: unfold, apply the box's K, fold
+            uc = u.copy()
+            unfold_tied(uc, self.bc, self.nn[0], self.nn[1])
+            apply_k(uc, out, self.ke, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
+            fold_tied(out, self.bc, self.nn[0], self.nn[1])
+        else:
+            apply_k(u, out, self.ke, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
 
 
 class Multigrid:
     """Hierarchy for a ``BoxMesh`` with node fixities ``bc`` and material vector ``mat``."""
 
-    def __init__(self, mesh, bc: np.ndarray, mat: np.ndarray):
+    def __init__(self, mesh, bc: np.ndarray, mat: np.ndarray, periodic: bool = False):
         axes = (np.asarray(mesh.x, float), np.asarray(mesh.y, float), np.asarray(mesh.z, float))
         bc3 = np.asarray(bc).reshape(len(axes[2]), len(axes[1]), len(axes[0]))
+        self.periodic = periodic
         self.levels: list[Level] = []
         while True:
-            lev = self._level(axes, bc3, mat)
+            # every level keeps both end nodes of each axis, so the slaves' bits carry over
+            lev = self._level(axes, bc3, mat, periodic)
             self.levels.append(lev)
             n = lev.nn[0] * lev.nn[1] * lev.nn[2]
             target = 2.0 * max(float(np.median(np.diff(a))) for a in axes)
@@ -365,7 +424,7 @@ class Multigrid:
         self._setup_coarsest()
 
     @staticmethod
-    def _level(axes, bc3, mat) -> Level:
+    def _level(axes, bc3, mat, periodic=False) -> Level:
         types, spacings = zip(*(_unique_spacing(a) for a in axes))
         ke = np.zeros((len(spacings[0]), len(spacings[1]), len(spacings[2]), 24, 24))
         for a, hx in enumerate(spacings[0]):
@@ -376,8 +435,17 @@ class Multigrid:
         ne = tuple(n - 1 for n in nn)
         bc = np.ascontiguousarray(bc3.ravel())
         dinv = np.zeros((nn[0] * nn[1] * nn[2], 3))
-        _diagonal(ke, *types, nn[0], nn[1], *ne, bc, dinv)
-        return Level(axes, nn, ne, tuple(types), ke, bc, dinv)
+        if periodic:
+            # diagonal of T^T K T: a master's plus its slaves'; slaves (and fixed dofs) 0
+            _diagonal(ke, *types, nn[0], nn[1], *ne, np.zeros_like(bc), dinv)
+            d = 1.0 / dinv
+            fold_tied(d, bc, nn[0], nn[1])
+            free = d != 0.0
+            dinv = np.where(free, 1.0 / np.where(free, d, 1.0), 0.0)
+            mask_fixed(dinv, bc)
+        else:
+            _diagonal(ke, *types, nn[0], nn[1], *ne, bc, dinv)
+        return Level(axes, nn, ne, tuple(types), ke, bc, dinv, periodic=periodic)
 
     def _setup_smoothers(self):
         for lev in self.levels[:-1]:
@@ -456,8 +524,19 @@ class Multigrid:
         rc = np.empty((nxt.dinv.shape[0], 3))
         cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz = lev.interp
         _restrict(r, rc, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nxt.nn[0], nxt.nn[1], nxt.bc)
+        if self.periodic:
+            fold_tied(rc, nxt.bc, nxt.nn[0], nxt.nn[1])
         xc = self.vcycle(rc, level + 1)
-        _prolong_add(xc, x, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nxt.nn[0], nxt.nn[1], lev.bc)
+        if self.periodic:
+            # P on the tied space: prolong the unfolded coarse vector, keep the fine masters
+            unfold_tied(xc, nxt.bc, nxt.nn[0], nxt.nn[1])
+            xs = np.zeros_like(x)
+            _prolong_add(xc, xs, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nxt.nn[0], nxt.nn[1], lev.bc)
+            mask_fixed(xs, lev.bc)
+            _mask_tied(xs, lev.bc)
+            x += xs
+        else:
+            _prolong_add(xc, x, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nxt.nn[0], nxt.nn[1], lev.bc)
         self._smooth(lev, b, x, r, CHEB_DEGREE, False)
         return x
 

@@ -40,6 +40,12 @@ windows used during the impacts. Two methods (``Options.relax_method``):
     whole mesh, no shot, until ``KE <= relax_ke_fraction * E_ref`` and
     ``max |v| <= relax_v_fraction * v_ref`` (checked every 10 steps).
 
+Periodic lateral faces (:mod:`peenflow.fe.boundary`): the static method
+works in the tied space -- residuals folded onto the masters, the multigrid
+built for ``K_p = T^T K T`` on every level (``T`` copies masters to
+slaves), corrections unfolded -- and dynamic relaxation ties the faces in
+the solver's node update.
+
 Both leave ``v = 0``. Both are deterministic and independent of the thread
 count (the multigrid is serial; the element pass is bit-identical on any
 number of threads).
@@ -118,7 +124,7 @@ def _forces(model, st: KernelState, dt: float, threads: int, where: str) -> np.n
     st.energy[S.E_PL] += wp
     st.energy[S.E_HG] += wh
     st.energy[S.E_VISC] += wv
-    r = st.f.copy()
+    r = model.fold(st.f.copy())  # periodic: the tied space's forces live on the masters
     mask_fixed(r, model.bc)
     return r
 
@@ -151,6 +157,7 @@ def relax_static(model, st: KernelState, options, e_ref: float, *, where="relaxa
         if len(rows) == options.relax_max_outer or energy > 100.0 * e_first:
             break
         du, its, rel = pcg(mg, r, rtol=options.relax_cg_rtol, z0=z)
+        model.unfold(du)  # periodic: slaves move with their masters
         rows.append((energy, its, rel, float(np.abs(du).max())))
         st.v[:] = du  # applied over a step of 1 s: v = du / (1 s)
         st.x[:] += du

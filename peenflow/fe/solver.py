@@ -84,7 +84,7 @@ N_REC = 19
 
 @jit
 def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, alpha,
-                 sponge_w, sponge_a, bnodes, bk, bcd, bf0, bx0, bdash):
+                 sponge_w, sponge_a, bnodes, bk, bcd, bf0, bx0, bdash, periodic, lx, ly):
     """Velocity/position update of the window's nodes; zeroes ``f`` there.
 
     Nodes within ``sponge_w`` node layers of a held window face get extra
@@ -100,11 +100,40 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
     integrated semi-implicitly like the mass damping. The work done on the
     exterior joins the damping work.
 
+    Periodic lateral faces (``periodic``; slave nodes carry the ``bc`` bits
+    8 / 16, :mod:`peenflow.fe.boundary`): first every slave's force is
+    folded into its master (fixed order: deterministic); ``mass`` holds the
+    master's combined mass and 0 for a slave; the master is updated like any
+    node, then the slave takes its velocity and its position plus the period
+    (``lx``, ``ly`` m). A window that holds a slave must hold its master: it
+    spans the period along that axis (:meth:`peenflow.fe.model.Model.phase`).
+
     Returns ``(KE, max speed, damping + boundary work)``.
     """
     ke = 0.0
     vmax2 = 0.0
     wd = 0.0
+    # slaves lie on the last column / row: only a window reaching them ties
+    tie = periodic and (ni1 == nnx - 1 or nj1 == nny - 1)
+    if tie:
+        for k in range(nk0, nk1 + 1):
+            for j in range(nj0, nj1 + 1):
+                base = nnx * (j + nny * k)
+                for i in range(ni0, ni1 + 1):
+                    n = base + i
+                    b = bc[n]
+                    if b & 24:
+                        m = n
+                        if b & 8:
+                            m -= nnx - 1
+                        if b & 16:
+                            m -= nnx * (nny - 1)
+                        f[m, 0] += f[n, 0]
+                        f[m, 1] += f[n, 1]
+                        f[m, 2] += f[n, 2]
+                        f[n, 0] = 0.0
+                        f[n, 1] = 0.0
+                        f[n, 2] = 0.0
     for q in range(bnodes.shape[0]):
         n = bnodes[q]
         im = dt_avg / mass[n]
@@ -136,6 +165,28 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
             base = nnx * (j + nny * k)
             for i in range(ni0, ni1 + 1):
                 n = base + i
+                if tie and bc[n] & 24:
+                    # slave: its master (lower index) is already updated
+                    b = bc[n]
+                    m = n
+                    ox = 0.0
+                    oy = 0.0
+                    if b & 8:
+                        m -= nnx - 1
+                        ox = lx
+                    if b & 16:
+                        m -= nnx * (nny - 1)
+                        oy = ly
+                    v[n, 0] = v[m, 0]
+                    v[n, 1] = v[m, 1]
+                    v[n, 2] = v[m, 2]
+                    x[n, 0] = x[m, 0] + ox
+                    x[n, 1] = x[m, 1] + oy
+                    x[n, 2] = x[m, 2]
+                    f[n, 0] = 0.0
+                    f[n, 1] = 0.0
+                    f[n, 2] = 0.0
+                    continue
                 if hk or hj or (i == ni0 and hold[0]) or (i == ni1 and hold[1]):
                     f[n, 0] = 0.0
                     f[n, 1] = 0.0
@@ -186,7 +237,7 @@ def run_phase(
     mode, parallel, max_steps, record_every,
     x, v, f, mass, bc, stress, eps_p, sy_static, hg, temp, vol0, mat_dyn, mat_static,
     xs_ref, ys_ref, nnx, nny, nx, ny, win, hold,
-    shot, ctl, energy, rec, info, cand, dn, bnodes, bk, bcd, bf0, bx0, bnd_settle,
+    shot, ctl, energy, rec, info, cand, dn, bnodes, bk, bcd, bf0, bx0, bnd_settle, periodic,
 ):
     """Integrate until the phase ends (see module docstring). All arrays are
     updated in place; ``info`` receives the phase summary, ``rec`` the records.
@@ -195,7 +246,9 @@ def run_phase(
     0 springs and dashpots, 1 held where they are (their kinetic energy then
     joins the damping work), 2 springs only (the dashpots over-damp the
     faces' slow static return: 400 instead of 240 settle steps on the strip
-    REV; only the rest state matters then). Returns the status code."""
+    REV; only the rest state matters then). ``periodic``: tied lateral
+    faces (``mass``: the masters' combined masses, 0 on slaves; see
+    :func:`_node_update`). Returns the status code."""
     i0, i1, j0, j1, k0, k1 = win[0], win[1], win[2], win[3], win[4], win[5]
     ni0, ni1, nj0, nj1, nk0, nk1 = i0, i1, j0, j1, k0, k1  # node index box (inclusive)
     dt_prev = ctl[C_DT_PREV]
@@ -211,6 +264,8 @@ def run_phase(
     sponge_w = int(ctl[C_SPONGE_W])
     nb = bnodes.shape[0]
     bdash = 1.0
+    lx = xs_ref[nnx - 1] - xs_ref[0]
+    ly = ys_ref[nny - 1] - ys_ref[0]
     shot_active = mode == MODE_IMPACT
     damping = mode == MODE_RELAX
     separated = False
@@ -255,7 +310,8 @@ def run_phase(
         dt_avg = 0.5 * (dt_prev + dt)
         a_d = alpha if damping else 0.0
         ke, vmax, wd = _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, a_d,
-                                     sponge_w, ctl[C_SPONGE_A], bnodes[:nb], bk, bcd, bf0, bx0, bdash)
+                                     sponge_w, ctl[C_SPONGE_A], bnodes[:nb], bk, bcd, bf0, bx0, bdash,
+                                     periodic, lx, ly)
         energy[E_DAMP] += wd
         ncon = 0
         if shot_active:

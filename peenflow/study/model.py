@@ -72,6 +72,22 @@ class Study(StudyModel):
                 self.target._profile_sha256 = hashlib.sha256(csv.read_bytes()).hexdigest()
         return self
 
+    @model_validator(mode="after")
+    def _periodic_rev_fits_a_contact(self) -> "Study":
+        """Periodic REV faces: each shot's contact zone (the kernel's search box,
+        1.25 R each side, plus 2 elements) must fit in half a period."""
+        if self.fidelity.lateral_boundary != "periodic":
+            return self
+        need = 1.25 * self.shot.diameter_m + 4.0 * self.fidelity.element_size_m
+        for name, section in (("almen", self.almen), ("target", self.target)):
+            size = getattr(section, "rev_size_mm", None) if section is not None else None
+            if size is not None and size * 1e-3 <= need:
+                raise ValueError(
+                    f'{name}.rev_size_mm = {size}: with fidelity.lateral_boundary = "periodic" the REV side must '
+                    f"exceed 1.25 D + 4 elements = {need * 1e3:.3g} mm (a shot's contact zone must fit in half "
+                    "a period)")
+        return self
+
     # --- identity --------------------------------------------------------
     @property
     def name(self) -> str:

@@ -76,6 +76,8 @@ CASES = [
     ("contact-stiffness", {"fidelity.contact_stiffness_factor": 5.0},
      ["fidelity.contact_stiffness_factor = 5.0: expected a contact stiffness factor in (0, 2]"]),
     ("fidelity-overrides-key", {"fidelity.overrides": ["x"]}, ['fidelity.overrides = ["x"]: unknown key']),
+    ("lateral-boundary", {"fidelity.lateral_boundary": "periodical"},
+     ['fidelity.lateral_boundary = "periodical": expected one of', 'did you mean "periodic"?']),
     ("precision", {"fidelity.precision": "float16"}, ['fidelity.precision = "float16": expected one of', 'did you mean "float64"?']),
     ("preset-typo", {"fidelity.preset": "standrad"}, ['fidelity.preset = "standrad": expected one of', 'did you mean "standard"?']),
     ("element-too-large", {"fidelity.element_size_um": 400.0},
@@ -125,6 +127,8 @@ CASES = [
      ['almen: almen.rev_size_mm is given but rev_rule = "paper"']),
     ("profile-missing", {"target.measured_profile_csv": "nope.csv"},
      ["target.measured_profile_csv = ", "nope.csv", "measured profile not found"]),
+    ("periodic-rev-too-small", {"fidelity.lateral_boundary": "periodic", "target.rev_size_mm": 0.5},
+     ['target.rev_size_mm = 0.5: with fidelity.lateral_boundary = "periodic" the REV side must exceed']),
     ("nothing-to-compute", {"almen": DELETE, "target": DELETE}, ["nothing to compute: add an [almen] section"]),
 ]
 
@@ -223,3 +227,7 @@ def test_measured_profile_checked(write_study, tmp_path):
     (tmp_path / "rows.csv").write_text("# comment\ndepth_mm,stress_MPa,component\n0.1,-300,xx\n-1,oops,qq\n")
     problems = validate_study(write_study({"target.measured_profile_csv": "rows.csv"}))
     assert any("rows.csv: bad data on row(s) 3" in p for p in problems), problems
+
+
+def test_periodic_lateral_boundary_is_valid(write_study):
+    assert validate_study(write_study({"fidelity.lateral_boundary": "periodic"})) == []
