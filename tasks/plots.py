@@ -58,7 +58,9 @@ def write_plots(graph, store, out_dir: Path) -> list[Path]:
                 line = ax.plot(n, ah.mean("sequence"), "o", label=f"{v:g} m/s")[0]
                 ax.plot(np.repeat(n[None], ah.sizes["sequence"], 0).ravel(), ah.values.ravel(), ".",
                         color=line.get_color(), alpha=0.3)
-                if sat is not None and "fit_arc_height_mm" in sat:
+                # a partial result lacks the points whose fit failed (e.g. "cannot saturate")
+                if (sat is not None and "fit_arc_height_mm" in sat and a in sat.angle_deg.values
+                        and v in sat.velocity_m_s.values):
                     s = sat.sel(angle_deg=a, velocity_m_s=v)
                     if np.isfinite(s.fit_arc_height_mm).any():
                         ax.plot(s.shots_fine, s.fit_arc_height_mm, "-", color=line.get_color())
