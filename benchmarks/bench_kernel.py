@@ -434,9 +434,10 @@ def plastic_table():
     print("| v m/s | rate term | h um | dent depth um | crest diameter mm | contact diameter mm | max approach um | "
           "restitution | peak force N | hourglass | wall s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
+    conv = {}
     for v in (25.0, 55.0):
         for rate in (True, False):
-            for h in (25e-6, 12.5e-6):
+            for h in (25e-6, 12.5e-6, 6.25e-6):
                 if h < 20e-6 and not rate:
                     continue
                 from peenflow.fe.mesh import graded_box
@@ -454,10 +455,26 @@ def plastic_table():
                 right = xs > 0
                 diam = 2.0 * xs[right][np.argmin(us[right])]
                 s = res.shots
+                if rate:
+                    conv.setdefault(v, []).append((uz.max(), s["max_approach"][0], s["restitution"][0]))
                 print(f"| {v:g} | {'on' if rate else 'off'} | {h*1e6:g} | {uz.max()*1e6:.2f} | {diam*1e3:.3f} | "
                       f"{2*s['max_contact_radius'][0]*1e3:.3f} | "
                       f"{s['max_approach'][0]*1e6:.2f} | {s['restitution'][0]:.3f} | {s['peak_force'][0]:.0f} | "
                       f"{res.hourglass_ratio:.3f} | {time.perf_counter()-t0:.1f} |", flush=True)
+    # Richardson extrapolation from h, h/2, h/4 (rate term on): observed order p and the h -> 0 value
+    print("| v m/s | quantity | 25 / 12.5 / 6.25 um | observed order | extrapolated h -> 0 | 6.25 um vs extrapolated |")
+    print("|---|---|---|---|---|---|")
+    for v, rows in conv.items():
+        for k, (name, scale) in enumerate((("dent depth um", 1e6), ("max approach um", 1e6), ("restitution", 1.0))):
+            f1, f2, f3 = (r[k] * scale for r in rows)
+            ratio = (f1 - f2) / (f2 - f3) if f2 != f3 else float("nan")
+            if ratio > 1.0:
+                order = np.log2(ratio)
+                f0 = f3 + (f3 - f2) / (2**order - 1)
+                print(f"| {v:g} | {name} | {f1:.3f} / {f2:.3f} / {f3:.3f} | {order:.2f} | {f0:.3f} | "
+                      f"{100*(f3/f0-1):+.2f} % |")
+            else:  # not monotone / not converging at a fixed rate: no extrapolation
+                print(f"| {v:g} | {name} | {f1:.3f} / {f2:.3f} / {f3:.3f} | - | - | - |")
 
 
 if __name__ == "__main__":
