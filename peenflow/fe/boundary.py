@@ -26,12 +26,24 @@ from __future__ import annotations
 
 import numpy as np
 
+from peenflow._jit import jit
 from peenflow.fe.mesh import BoxMesh
 
 FIX_X, FIX_Y, FIX_Z = 1, 2, 4
 #: periodic slave node: image of the node ``nnx - 1`` columns before it (TIE_X) / ``nny - 1`` rows (TIE_Y)
 TIE_X, TIE_Y = 8, 16
 TIED = TIE_X | TIE_Y
+
+
+@jit(inline="always")
+def tied_master(n, b, nnx, nny):
+    """The master node of periodic slave ``n`` whose bits are ``b`` (``b & TIED`` nonzero)."""
+    m = n
+    if b & TIE_X:
+        m -= nnx - 1
+    if b & TIE_Y:
+        m -= nnx * (nny - 1)
+    return m
 
 _LATERAL = ("symmetric", "free", "periodic")
 _BOTTOM = ("fixed", "free")

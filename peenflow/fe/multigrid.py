@@ -56,6 +56,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from peenflow._jit import jit
+from peenflow.fe.boundary import TIED, tied_master
 from peenflow.fe.element import element_rows
 
 COARSEST_NODES = 600
@@ -315,12 +316,8 @@ def fold_tied(r, bc, nnx, nny):
     slave's entry of ``r`` to its master's and zero it (in place)."""
     for n in range(r.shape[0]):
         b = bc[n]
-        if b & 24:
-            m = n
-            if b & 8:
-                m -= nnx - 1
-            if b & 16:
-                m -= nnx * (nny - 1)
+        if b & TIED:
+            m = tied_master(n, b, nnx, nny)
             for c in range(3):
                 r[m, c] += r[n, c]
                 r[n, c] = 0.0
@@ -331,12 +328,8 @@ def unfold_tied(u, bc, nnx, nny):
     """Periodic slaves: copy each master's entry of ``u`` to its slaves (in place)."""
     for n in range(u.shape[0]):
         b = bc[n]
-        if b & 24:
-            m = n
-            if b & 8:
-                m -= nnx - 1
-            if b & 16:
-                m -= nnx * (nny - 1)
+        if b & TIED:
+            m = tied_master(n, b, nnx, nny)
             for c in range(3):
                 u[n, c] = u[m, c]
 
@@ -344,7 +337,7 @@ def unfold_tied(u, bc, nnx, nny):
 @jit
 def _mask_tied(r, bc):
     for n in range(r.shape[0]):
-        if bc[n] & 24:
+        if bc[n] & TIED:
             r[n, 0] = 0.0
             r[n, 1] = 0.0
             r[n, 2] = 0.0

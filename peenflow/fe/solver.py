@@ -47,6 +47,7 @@ import math
 import numpy as np
 
 from peenflow._jit import jit
+from peenflow.fe.boundary import TIE_X, TIE_Y, TIED, tied_master
 from peenflow.fe.contact import contact_kinematic
 from peenflow.fe.element import element_rows, element_rows_parallel
 
@@ -122,12 +123,8 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
                 for i in range(ni0, ni1 + 1):
                     n = base + i
                     b = bc[n]
-                    if b & 24:
-                        m = n
-                        if b & 8:
-                            m -= nnx - 1
-                        if b & 16:
-                            m -= nnx * (nny - 1)
+                    if b & TIED:
+                        m = tied_master(n, b, nnx, nny)
                         f[m, 0] += f[n, 0]
                         f[m, 1] += f[n, 1]
                         f[m, 2] += f[n, 2]
@@ -165,18 +162,12 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
             base = nnx * (j + nny * k)
             for i in range(ni0, ni1 + 1):
                 n = base + i
-                if tie and bc[n] & 24:
+                if tie and bc[n] & TIED:
                     # slave: its master (lower index) is already updated
                     b = bc[n]
-                    m = n
-                    ox = 0.0
-                    oy = 0.0
-                    if b & 8:
-                        m -= nnx - 1
-                        ox = lx
-                    if b & 16:
-                        m -= nnx * (nny - 1)
-                        oy = ly
+                    m = tied_master(n, b, nnx, nny)
+                    ox = lx if b & TIE_X else 0.0
+                    oy = ly if b & TIE_Y else 0.0
                     v[n, 0] = v[m, 0]
                     v[n, 1] = v[m, 1]
                     v[n, 2] = v[m, 2]
