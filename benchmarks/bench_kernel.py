@@ -402,6 +402,29 @@ HERTZ_CASES = (
 )
 
 
+# mesh layout at 55 m/s, a/h = 4, 25 a: (fine-zone half width in a, grading ratio); the default is (2, 1.2)
+HERTZ_LAYOUTS = ((2.0, 1.2), (2.0, 1.1), (4.0, 1.2), (6.0, 1.1))
+
+
+def hertz_layouts(layouts=HERTZ_LAYOUTS, v=55.0, n=4, extent=25.0):
+    """The 55 m/s deviation against the mesh layout (fine zone fine x a wide, 0.75 fine x a deep; grading ratio)."""
+    mat = Material(E=205e9, nu=0.29, density=7800.0, A=1e13)
+    print(f"# Hertz at {v:g} m/s, a/h = {n}, extent {extent:g} a: mesh layout; loadavg {loadavg()}")
+    print("| fine zone / a | grading | elements | approach err | force err | restitution | wall s |")
+    print("|---|---|---|---|---|---|---|")
+    for fine, ratio in layouts:
+        shots = Shots(centres=[[0, 0, -R - 1e-9]], velocities=[[0, 0, v]], radius=R, density=7800.0)
+        ref = hertz(R, shots.mass, v, mat.E, mat.nu)
+        a = ref["a"]
+        ax = graded_axis(fine * a, a / n, extent * a, ratio)
+        mesh = BoxMesh(ax, ax.copy(), graded_axis(0.75 * fine * a, a / n, extent * a, ratio))
+        t0 = time.perf_counter()
+        s = run_impacts(Target(mesh), mat, shots, Options(window=False, friction=0.0)).shots
+        print(f"| {fine:g} | {ratio:g} | {mesh.n_elements} | {100*(s['max_approach'][0]/ref['delta']-1):+.2f} % | "
+              f"{100*(s['peak_force'][0]/ref['F']-1):+.2f} % | {s['restitution'][0]:.4f} | "
+              f"{time.perf_counter()-t0:.1f} |", flush=True)
+
+
 def hertz_table(cases=HERTZ_CASES):
     print(f"# Hertz, quarter model, frictionless; loadavg {loadavg()}")
     print("| v m/s | a/h | extent / a | target density | elements | approach err | force err | radius err "
@@ -483,5 +506,5 @@ if __name__ == "__main__":
         rev(windows=((4.0, 4.0),), full=False)
         rev(windows=((4.0, 4.0),), full=False, n_shots=20)
     else:
-        {"throughput": throughput, "rev": rev, "hertz": hertz_table, "plastic": plastic_table,
+        {"throughput": throughput, "rev": rev, "hertz": hertz_table, "hertz-layout": hertz_layouts, "plastic": plastic_table,
          "window": window_error, "window-timing": window_timing, "window-size": window_size, "window-seq": window_sequence}[what]()
