@@ -81,12 +81,20 @@ class Material:
     adiabatic: bool = False
 
     def __post_init__(self):
-        if not (self.E > 0 and -1 < self.nu < 0.5 and self.density > 0):
-            raise ValueError("need E > 0, -1 < nu < 0.5, density > 0")
-        if self.A <= 0 or self.B < 0 or self.n <= 0 or self.C < 0 or self.m < 0:
-            raise ValueError("Johnson-Cook needs A > 0, B >= 0, n > 0, C >= 0, m >= 0")
-        if self.ref_strain_rate <= 0 or self.T_melt <= self.T_room:
-            raise ValueError("need ref_strain_rate > 0 and T_melt > T_room")
+        # each check is written so that NaN fails it
+        checks = (
+            ("E", self.E > 0, "> 0 (Pa)"), ("nu", -1 < self.nu < 0.5, "in (-1, 0.5)"),
+            ("density", self.density > 0, "> 0 (kg/m^3)"), ("A", self.A > 0, "> 0 (Pa)"),
+            ("B", self.B >= 0, ">= 0 (Pa)"), ("n", self.n > 0, "> 0"), ("C", self.C >= 0, ">= 0"),
+            ("m", self.m >= 0, ">= 0"), ("ref_strain_rate", self.ref_strain_rate > 0, "> 0 (1/s)"),
+            ("T_room", self.T_room > 0, "> 0 (K)"), ("T_melt", self.T_melt > self.T_room, "> T_room (K)"),
+            ("initial_temperature", self.T_melt > self.initial_temperature > 0, "in (0, T_melt) (K)"),
+            ("specific_heat", self.specific_heat > 0, "> 0 (J/(kg K))"),
+            ("taylor_quinney", 0 <= self.taylor_quinney <= 1, "in [0, 1]"),
+        )
+        for name, ok, expected in checks:
+            if not ok:
+                raise ValueError(f"Material.{name} = {getattr(self, name)!r}: expected {expected}")
 
     @property
     def lam(self) -> float:

@@ -61,6 +61,9 @@ def test_elastic_below_yield():
     np.testing.assert_allclose(out["stress"], mat.E * out["strain"], rtol=1e-9)
 
 
-def test_parameter_validation():
-    with pytest.raises(ValueError):
-        Material(E=205e9, nu=0.29, density=7800, A=-1.0)
+@pytest.mark.parametrize("key,value", [("A", -1.0), ("E", float("nan")), ("nu", 0.5), ("density", 0.0),
+                                       ("n", 0.0), ("C", -0.01), ("T_melt", 200.0), ("taylor_quinney", 1.5)])
+def test_parameter_validation_names_the_key(key, value):
+    # bad input is refused when the material is made, naming the key and its value
+    with pytest.raises(ValueError, match=rf"Material\.{key} = "):
+        Material(**{**SAE1070, key: value})

@@ -60,3 +60,13 @@ def test_free_flight_costs_no_steps():
     np.testing.assert_allclose(a.displacement, b.displacement, rtol=0, atol=1e-12)
     # the clock includes the free flight
     assert b.shots["t_contact"][0] == pytest.approx(1e-2 / 30.0, rel=1e-3)
+
+
+@pytest.mark.parametrize("key,value", [("dt_safety", 1.2), ("dt_safety", float("nan")), ("friction", -0.1),
+                                       ("hourglass_plastic_floor", 0.0), ("window_lateral", 0.0),
+                                       ("rest_ke_fraction", 0.0), ("max_steps", 0), ("threads", 0),
+                                       ("relax_cg_rtol", 1.5), ("runaway_fraction", -1.0),
+                                       ("window_boundary", "absorbing"), ("relax_method", "newton")])
+def test_bad_option_is_refused_before_any_compute(key, value):
+    with pytest.raises(ValueError, match=rf"Options\.{key} = "):
+        Options(**{key: value})
