@@ -1,0 +1,82 @@
+"""Numerical stability stress test: does every impact either finish with a closed energy balance or stop with a named cause?
+
+Sweeps shot speed x element size x time-step safety factor x hourglass
+coefficient for one S230 shot on SAE 1070 (Johnson-Cook with the rate term),
+normal incidence, default window, quarter-free box 1.2 x 1.2 x 0.6 mm with a
+uniform fine zone. For every case it prints the outcome: finished (energy
+balance error, dent depth, restitution, hourglass / internal energy) or the
+KernelInstabilityError's status; and then the worst energy error among the
+cases that finished. A finished case with an energy error of more than a
+few % would be a silent bad result: the table shows whether there is one.
+
+    PYTHONPATH=. python benchmarks/bench_stability.py            # full sweep (~5 min on one core)
+    PYTHONPATH=. python benchmarks/bench_stability.py quick      # 12 cases
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(__file__))
+from bench_kernel import R, SAE1070, loadavg  # noqa: E402
+
+from peenflow.fe import solver as S  # noqa: E402
+from peenflow.fe.impact import Options, run_impacts  # noqa: E402
+from peenflow.fe.johnson_cook import Material  # noqa: E402
+from peenflow.fe.mesh import graded_box  # noqa: E402
+from peenflow.fe.model import Target  # noqa: E402
+from peenflow.fe.safety import KernelInstabilityError  # noqa: E402
+from peenflow.fe.shots import Shots  # noqa: E402
+
+STATUS = {S.ST_NEGATIVE_VOLUME: "negative volume", S.ST_DISTORTION: "distortion", S.ST_NAN: "NaN/Inf",
+          S.ST_DT_COLLAPSE: "step collapse", S.ST_RUNAWAY: "runaway energy", S.ST_MAX_STEPS: "step budget"}
+
+
+def one(speed, h, dt_safety, hourglass, mat):
+    fine = max(0.15e-3, 4 * h)
+    t = Target(graded_box(0.6e-3, 0.6e-3, h, fine_half_width=fine, fine_depth=max(0.1e-3, 3 * h)))
+    shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[[0.0, 0.0, speed]], radius=R, density=7800.0)
+    t0 = time.perf_counter()
+    try:
+        res = run_impacts(t, mat, shots, Options(dt_safety=dt_safety, hourglass=hourglass))
+    except KernelInstabilityError as err:
+        return dict(ok=False, status=STATUS.get(err.status, str(err.status)), wall=time.perf_counter() - t0)
+    nnx, nny, _ = t.mesh.shape_nodes
+    return dict(ok=True, err=res.energy_error, dent=res.displacement[: nnx * nny, 2].max(),
+                e=res.shots["restitution"][0], hg=res.hourglass_ratio, wall=time.perf_counter() - t0)
+
+
+def main(quick: bool) -> None:
+    mat = Material(**SAE1070)
+    if quick:
+        grid = list(itertools.product((55.0, 200.0), (50e-6, 25e-6), (0.5, 0.9, 1.0), (0.05,)))
+    else:
+        grid = list(itertools.product((25.0, 55.0, 100.0, 200.0, 400.0), (100e-6, 50e-6, 25e-6), (0.5, 0.9, 1.0),
+                                      (0.02, 0.05, 0.15)))
+    one(55.0, 100e-6, 0.9, 0.05, mat)  # JIT warm-up
+    print(f"# stability sweep, {len(grid)} cases; loadavg {loadavg()}")
+    print("| v m/s | h um | dt_safety | Q_hg | outcome | energy error | dent um | restitution | hourglass / internal | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    worst = 0.0
+    raised = 0
+    for speed, h, safety, q in grid:
+        r = one(speed, h, safety, q, mat)
+        if r["ok"]:
+            worst = max(worst, r["err"])
+            print(f"| {speed:g} | {h*1e6:g} | {safety:g} | {q:g} | finished | {r['err']:.4f} | {r['dent']*1e6:.2f} | "
+                  f"{r['e']:.3f} | {r['hg']:.3f} | {r['wall']:.1f} |", flush=True)
+        else:
+            raised += 1
+            print(f"| {speed:g} | {h*1e6:g} | {safety:g} | {q:g} | stopped: {r['status']} | | | | | {r['wall']:.1f} |",
+                  flush=True)
+    print(f"# {len(grid) - raised} finished (largest energy error {worst:.4f} of the impact energy), "
+          f"{raised} stopped with a named cause; loadavg {loadavg()}")
+
+
+if __name__ == "__main__":
+    main(quick=len(sys.argv) > 1 and sys.argv[1] == "quick")
