@@ -107,6 +107,9 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
             "restitution": var(records["restitution"], ("impact",), "", "per impact, in arrival order"),
             "peak_force_N": var(records["peak_force"], ("impact",), "N"),
             "energy_error": var(records["energy_error"], ("impact",), "", "energy balance error / impact energy"),
+            "hourglass_peak": var(records["hourglass_peak"], ("impact",), "",
+                                  "peak hourglass energy of the impact / impact energy (large on a mesh too "
+                                  "coarse for the dent: BENCHMARKS.md 4b)"),
             "hit_fraction": var(float(hit.mean()) if hit.size else 0.0, (), "", "shots that touched the REV"),
         },
         coords={"shots": np.array(ladder), "component": list(K.VOIGT)},
