@@ -211,6 +211,22 @@ def _diagonal(ke, tx, ty, tz, nnx, nny, nx, ny, nz, bc, d):
                 d[n, c] = 1.0 / d[n, c]
 
 
+@jit(inline="always")
+def _coarse_corner(q, i, j, k, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nncx, nncy):
+    """Corner ``q`` (0..7, bits: x, y, z) of the coarse cell around fine node (i, j, k):
+    ``(coarse node index, trilinear weight)``; the weight is 0 for a corner not used."""
+    ii = q & 1
+    jj = (q >> 1) & 1
+    kk = q >> 2
+    ci = cx1[i] if ii else cx0[i]
+    wi = wx[i] if ii else 1.0 - wx[i]
+    cj = cy1[j] if jj else cy0[j]
+    wj = wy[j] if jj else 1.0 - wy[j]
+    ck = cz1[k] if kk else cz0[k]
+    wk = wz[k] if kk else 1.0 - wz[k]
+    return ci + nncx * (cj + nncy * ck), wi * wj * wk
+
+
 @jit
 def _prolong_add(uc, uf, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nncx, nncy, bc):
     """``uf += P uc`` (trilinear on the tensor grid); fixed dofs untouched."""
@@ -224,26 +240,13 @@ def _prolong_add(uc, uf, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nncx, nncy, b
                 s0 = 0.0
                 s1 = 0.0
                 s2 = 0.0
-                for kk in range(2):
-                    ck = cz1[k] if kk else cz0[k]
-                    wk = wz[k] if kk else 1.0 - wz[k]
-                    if wk == 0.0:
+                for q in range(8):
+                    m, w = _coarse_corner(q, i, j, k, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nncx, nncy)
+                    if w == 0.0:
                         continue
-                    for jj in range(2):
-                        cj = cy1[j] if jj else cy0[j]
-                        wj = wy[j] if jj else 1.0 - wy[j]
-                        if wj == 0.0:
-                            continue
-                        for ii in range(2):
-                            ci = cx1[i] if ii else cx0[i]
-                            wi = wx[i] if ii else 1.0 - wx[i]
-                            if wi == 0.0:
-                                continue
-                            w = wi * wj * wk
-                            m = ci + nncx * (cj + nncy * ck)
-                            s0 += w * uc[m, 0]
-                            s1 += w * uc[m, 1]
-                            s2 += w * uc[m, 2]
+                    s0 += w * uc[m, 0]
+                    s1 += w * uc[m, 1]
+                    s2 += w * uc[m, 2]
                 b = bc[n]
                 if not (b & 1):
                     uf[n, 0] += s0
@@ -267,26 +270,13 @@ def _restrict(rf, rc, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nncx, nncy, bcc)
                 r0 = rf[n, 0]
                 r1 = rf[n, 1]
                 r2 = rf[n, 2]
-                for kk in range(2):
-                    ck = cz1[k] if kk else cz0[k]
-                    wk = wz[k] if kk else 1.0 - wz[k]
-                    if wk == 0.0:
+                for q in range(8):
+                    m, w = _coarse_corner(q, i, j, k, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nncx, nncy)
+                    if w == 0.0:
                         continue
-                    for jj in range(2):
-                        cj = cy1[j] if jj else cy0[j]
-                        wj = wy[j] if jj else 1.0 - wy[j]
-                        if wj == 0.0:
-                            continue
-                        for ii in range(2):
-                            ci = cx1[i] if ii else cx0[i]
-                            wi = wx[i] if ii else 1.0 - wx[i]
-                            if wi == 0.0:
-                                continue
-                            w = wi * wj * wk
-                            m = ci + nncx * (cj + nncy * ck)
-                            rc[m, 0] += w * r0
-                            rc[m, 1] += w * r1
-                            rc[m, 2] += w * r2
+                    rc[m, 0] += w * r0
+                    rc[m, 1] += w * r1
+                    rc[m, 2] += w * r2
     for m in range(rc.shape[0]):
         for c in range(3):
             if bcc[m] & (1 << c):
