@@ -183,11 +183,7 @@ def apply_k(u, out, ke, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
                     out[n, 0] += fl[3 * I]
                     out[n, 1] += fl[3 * I + 1]
                     out[n, 2] += fl[3 * I + 2]
-    for n in range(out.shape[0]):
-        b = bc[n]
-        for c in range(3):
-            if b & (1 << c):
-                out[n, c] = 0.0
+    mask_fixed(out, bc)
 
 
 @jit
@@ -277,10 +273,7 @@ def _restrict(rf, rc, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nncx, nncy, bcc)
                     rc[m, 0] += w * r0
                     rc[m, 1] += w * r1
                     rc[m, 2] += w * r2
-    for m in range(rc.shape[0]):
-        for c in range(3):
-            if bcc[m] & (1 << c):
-                rc[m, c] = 0.0
+    mask_fixed(rc, bcc)
 
 
 @jit
