@@ -65,6 +65,7 @@ mandatory: the measuring region is wider than a window (static relaxation,
 from __future__ import annotations
 
 import math
+import numbers
 import time as _time
 from dataclasses import dataclass, field
 from typing import Callable
@@ -196,7 +197,7 @@ class Options:
         )
         for name, low, closed, high in ranges:
             value = getattr(self, name)
-            ok = isinstance(value, (int, float)) and not isinstance(value, bool) and (
+            ok = isinstance(value, numbers.Real) and not isinstance(value, bool) and (
                 value >= low if closed else value > low) and (high is None or value <= high)
             if not ok:
                 interval = f"{'[' if closed else '('}{low}, {'inf)' if high is None else f'{high}]'}"
