@@ -9,6 +9,13 @@ The fingerprint is a hash of the module's abstract syntax tree with
 docstrings removed: comments, blank lines, formatting and docstrings do not
 change it, so fixing a typo in a docstring does not throw away hours of
 results.  Line numbers are not part of ``ast.dump`` output by default.
+
+A task's code is its own module (less its other tasks) plus every module of
+its own top-level package that it imports, directly or through another such
+module (:func:`local_imports`): a helper module shared by two stages, or a
+stage module another stage imports, is part of both stages' code.  Modules
+outside that package enter only when the task declares them (``uses``), so
+an edit to the engine or to a third-party library invalidates nothing.
 """
 
 from __future__ import annotations
@@ -16,6 +23,7 @@ from __future__ import annotations
 import ast
 import functools
 import importlib
+import importlib.util
 import inspect
 from pathlib import Path
 
@@ -74,6 +82,68 @@ def module_fingerprint(module_name: str) -> str:
     return file_fingerprint(origin_path)
 
 
+def _imported_modules(tree: ast.AST, module_name: str, is_package: bool) -> set[str]:
+    """Absolute names of the modules an AST imports: ``from X import y`` gives
+    ``X.y`` when ``y`` is a submodule, else ``X`` (where ``y`` is defined)."""
+    package = module_name if is_package else module_name.rpartition(".")[0]
+    out: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - (node.level - 1)] if node.level > 1 else base
+                stem = ".".join(base + ([node.module] if node.module else []))
+            else:
+                stem = node.module or ""
+            if stem:
+                subs = {f"{stem}.{a.name}" for a in node.names if a.name != "*"}
+                modules = {m for m in subs if _is_module(m)}
+                out.update(modules)
+                if modules != subs or not subs:  # a name defined in ``stem`` itself
+                    out.add(stem)
+    return out
+
+
+def _is_module(name: str) -> bool:
+    try:
+        return _module_file(name) is not None
+    except (ModuleNotFoundError, ValueError):
+        return False
+
+
+@functools.lru_cache(maxsize=None)
+def _module_file(module_name: str) -> str | None:
+    spec = importlib.util.find_spec(module_name)
+    if spec is None or not spec.origin or not spec.origin.endswith(".py"):
+        return None
+    return spec.origin
+
+
+@functools.lru_cache(maxsize=None)
+def local_imports(module_name: str) -> tuple[str, ...]:
+    """Modules of ``module_name``'s own top-level package that it imports,
+    directly or transitively (sorted, itself excluded)."""
+    top = module_name.partition(".")[0]
+    seen = {module_name}
+    todo = [module_name]
+    while todo:
+        name = todo.pop()
+        path = _module_file(name)
+        if path is None:
+            continue
+        tree = ast.parse(Path(path).read_text(encoding="utf-8"))
+        for dep in _imported_modules(tree, name, Path(path).name == "__init__.py"):
+            if dep.partition(".")[0] != top or dep in seen:
+                continue
+            if _is_module(dep):
+                seen.add(dep)
+                todo.append(dep)
+    seen.discard(module_name)
+    return tuple(sorted(seen))
+
+
 def _is_task_def(node: ast.AST) -> bool:
     if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
         return False
@@ -92,6 +162,13 @@ def _task_fingerprint(path: str, fn_name: str) -> str:
     # and imports count for every task of the module.
     tree.body = [n for n in tree.body if not (_is_task_def(n) and n.name != fn_name)]
     return digest(ast.dump(tree, annotate_fields=True, include_attributes=False))
+
+
+def clear_fingerprint_cache() -> None:
+    """Forget every cached fingerprint and import closure, so that edits made on
+    disk since they were taken are seen (tests; a long-lived client)."""
+    for cached in (_file_fingerprint, _task_fingerprint, local_imports, _module_file):
+        cached.cache_clear()
 
 
 def function_fingerprint(fn) -> str:

@@ -6,12 +6,14 @@ optionally, the *pipeline* that turns the file into a graph
 and returns a :class:`~peenflow.engine.graph.Graph`, validating the file its
 own way first).  The caller supplies the default pipeline, so the engine
 itself knows nothing of what the studies are about.  The study file's
-directory is importable, so a pipeline module may sit beside the study.
+directory is importable (after the installed packages, which it cannot
+shadow), so a pipeline module may sit beside the study.
 """
 
 from __future__ import annotations
 
 import importlib
+import importlib.machinery
 import sys
 import tomllib
 from pathlib import Path
@@ -45,12 +47,32 @@ def resolve_pipeline(entry: str):
         raise StudyFileError(f"study.pipeline = {entry!r} cannot be imported: {exc}") from exc
 
 
+class _StudyFolderFinder:
+    """Finds top-level modules in a study's folder, consulted after every other
+    finder: a module beside the study (say a ``tasks.py``) cannot shadow an
+    installed package of the same name, editable installs included (their
+    finder sits on ``sys.meta_path`` behind ``sys.path``, so a folder put on
+    ``sys.path``, even at its end, would still win)."""
+
+    def __init__(self, folder: Path):
+        self.folder = str(folder)
+
+    def find_spec(self, name, path=None, target=None):
+        if path is not None or "." in name:
+            return None
+        return importlib.machinery.PathFinder.find_spec(name, [self.folder])
+
+
+def _import_after_installed(folder: Path) -> None:
+    if not any(isinstance(f, _StudyFolderFinder) and f.folder == str(folder) for f in sys.meta_path):
+        sys.meta_path.append(_StudyFolderFinder(folder))
+
+
 def load_graph(path: str | Path, default_pipeline: str) -> Graph:
     path = Path(path).resolve()
     data = read_study_table(path)
     entry = data.get("study", {}).get("pipeline", default_pipeline)
-    if str(path.parent) not in sys.path:
-        sys.path.insert(0, str(path.parent))
+    _import_after_installed(path.parent)
     builder = resolve_pipeline(entry)
     graph = builder(path)
     if not isinstance(graph, Graph):

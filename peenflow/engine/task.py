@@ -16,7 +16,8 @@ returns an :class:`xarray.Dataset`::
   ``status`` then flags results whose code changed under the same version
   as *stale*;
 * ``uses``: modules/packages whose source also enters the code fingerprint
-  (the kernel a task calls), on top of the task's own module.
+  (the kernel a task calls), on top of the task's own module and the modules
+  of its own package that it imports (followed transitively).
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from .canonical import digest
-from .fingerprint import function_fingerprint, module_fingerprint
+from .fingerprint import function_fingerprint, local_imports, module_fingerprint
 
 
 @dataclass(frozen=True)
@@ -49,8 +50,10 @@ class Task:
         return self.fn.__qualname__
 
     def source_hash(self) -> str:
-        """Fingerprint of the task's module and every module it declares it uses."""
+        """Fingerprint of the task's module, the modules of its own package it
+        imports (transitively), and every module it declares it uses."""
         parts = [f"task:{function_fingerprint(self.fn)}"]
+        parts += [f"{m}:{module_fingerprint(m)}" for m in local_imports(self.module)]
         parts += [f"{m}:{module_fingerprint(m)}" for m in sorted(self.uses)]
         return digest("\n".join(parts))
 
