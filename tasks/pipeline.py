@@ -19,7 +19,6 @@ share a section (the paper's §5 study extends its §4 study) share results.
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 from peenflow.engine import Graph
@@ -61,17 +60,6 @@ def fidelity_params(f) -> dict:
         "settle_tolerance": f.settle_tolerance, "relaxation_tolerance": f.relaxation_tolerance,
         "lateral_boundary": f.lateral_boundary,
     }
-
-
-def read_measured_profile(path: Path) -> dict:
-    """CSV with columns depth_mm, stress_MPa[, component] -> SI dict for ``residual_profile``."""
-    depth, stress, comp = [], [], "xx"
-    with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            depth.append(float(row["depth_mm"]) * 1e-3)
-            stress.append(float(row["stress_MPa"]) * 1e6)
-            comp = row.get("component") or comp
-    return {"depth_m": depth, "stress_Pa": stress, "component": comp}
 
 
 def build_graph(path) -> Graph:
@@ -167,7 +155,7 @@ def build_graph(path) -> Graph:
                          upstream={"rev": rev_t, "velocity": vel, "coverage": cov},
                          params={"material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg},
                          point_params=lambda c: {"seed": study.seeds.seed("target", c["sequence"])})
-        measured = read_measured_profile(Path(t.measured_profile_csv)) if t.measured_profile_csv else None
+        measured = t.measured_profile.as_params() if t.measured_profile is not None else None
         # The release is that of a plate peened on one whole face; the stage
         # applies it only when the REV spans the part's thickness.
         free_part = {"thickness_m": t.thickness_m, "young_modulus_Pa": t.material.youngs_modulus_Pa,

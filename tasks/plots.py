@@ -118,7 +118,11 @@ def write_plots(graph, store, out_dir: Path) -> list[Path]:
                 ax.plot(z, prof[f"stress_{c}_free_mean_MPa"].values, "--", color=line.get_color(),
                         label=f"sigma_{c}, free part")
         if "measured_stress_MPa" in prof:
-            ax.plot(prof.measured_depth_m * 1e3, prof.measured_stress_MPa, "ks", label="measured")
+            yy = prof.measured_component.values == 1
+            for sel, marker, c in ((~yy, "ks", "xx"), (yy, "k^", "yy")):
+                if sel.any():
+                    ax.plot(prof.measured_depth_m.values[sel] * 1e3, prof.measured_stress_MPa.values[sel], marker,
+                            mfc="none", label=f"measured sigma_{c}")
         # On a thick part the peened layer is a small fraction of the depth:
         # show 2.5 times the depth where |sigma_xx| last exceeds 5 % of its peak.
         mean = np.abs(prof.stress_xx_mean_MPa.values)

@@ -67,7 +67,8 @@ def _free_plate(z_edges: np.ndarray, stress: dict, part: dict) -> tuple[dict, di
 @peening_task(version="3")
 def residual_profile(runs: xr.Dataset, *, measured: dict | None = None, free_part: dict | None = None) -> xr.Dataset:
     """``runs``: target REV results combined over ``sequence``; ``measured``:
-    {"depth_m": [...], "stress_Pa": [...], "component": "xx"} or None;
+    {"depth_m": [...], "stress_Pa": [...], "component": ["xx" | "yy", ...]}
+    (SI, one entry per measured point) or None;
     ``free_part``: the part as a plate, {"thickness_m", "young_modulus_Pa",
     "poisson_ratio"}, or None; the released profile and bow are added when the
     REV spans that thickness (a thinner REV does not hold the part's resultants)."""
@@ -102,17 +103,26 @@ def residual_profile(runs: xr.Dataset, *, measured: dict | None = None, free_par
                 balance[c].relative_moment, (), "1", "|∫σ (z-H/2) dz| / ∫|σ||z-H/2| dz of the free part")
         attrs["free_part"] = f"plate {free_part['thickness_m'] * 1e3:g} mm thick, released"
     if measured:
-        comp = measured.get("component", "xx")
         md = np.asarray(measured["depth_m"], dtype=float)
         ms = np.asarray(measured["stress_Pa"], dtype=float) / MPA
-        ours = np.interp(md, depth, out[f"stress_{comp}_mean_MPa"].values)
+        comp = np.asarray(measured["component"])
+        # each point against our mean profile of its own component
+        ours = np.empty_like(md)
+        for c in ("xx", "yy"):
+            at = comp == c
+            ours[at] = np.interp(md[at], depth, out[f"stress_{c}_mean_MPa"].values)
         coords["measured_point"] = np.arange(md.size)
         out["measured_depth_m"] = var(md, ("measured_point",), "m")
-        out["measured_stress_MPa"] = var(ms, ("measured_point",), "MPa", f"measured sigma_{comp}")
-        out["predicted_at_measured_MPa"] = var(ours, ("measured_point",), "MPa")
+        out["measured_stress_MPa"] = var(ms, ("measured_point",), "MPa", "measured residual stress")
+        out["measured_component"] = xr.Variable(("measured_point",), (comp == "yy").astype(np.int8), {
+            "long_name": "stress component of the measurement", "flag_values": np.array([0, 1], dtype=np.int8),
+            "flag_meanings": "sigma_xx sigma_yy"})
+        out["predicted_at_measured_MPa"] = var(ours, ("measured_point",), "MPa",
+                                               "our mean profile of the same component at the measured depth")
         out["rms_difference_MPa"] = var(float(np.sqrt(np.mean((ours - ms) ** 2))), (), "MPa")
         mpeak, mat = _peak(md, ms)
         out["measured_peak_compressive_MPa"] = var(mpeak, (), "MPa")
         out["measured_peak_depth_m"] = var(mat, (), "m")
-        attrs["measured_profile"] = f"component {comp}, {md.size} points"
+        counts = ", ".join(f"{int((comp == c).sum())} sigma_{c}" for c in ("xx", "yy") if (comp == c).any())
+        attrs["measured_profile"] = f"{md.size} points ({counts})"
     return xr.Dataset(out, coords=coords, attrs=attrs)

@@ -21,7 +21,6 @@ Pipeline (every step collects problems instead of stopping at the first):
 from __future__ import annotations
 
 import copy
-import csv
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -33,6 +32,7 @@ from pydantic import BaseModel, ValidationError
 from .errors import Problem, StudyError, format_value, suggest, translate
 from .fidelity import Fidelity, expand_preset
 from .items import Material, Shot, Strip
+from .measured_profile import PROFILE_COMPONENTS, ProfileError, read_measured_profile
 from .model import Study, StudyInfo
 from .sections import Almen, Coverage, Dmin, Execution, Seeds, ShotSection, Target
 
@@ -58,8 +58,6 @@ STUDY_KEYS = ("name", "description", "include", "extends")
 TOP_KEYS = ("study", *SECTIONS, *REGISTRY)
 # Where a section names a library item: (section, key, registry kind).
 REFERENCES = (("shot", "type", "shots"), ("almen", "strip", "strips"), ("target", "material", "materials"))
-PROFILE_COLUMNS = ("depth_mm", "stress_MPa", "component")
-PROFILE_COMPONENTS = ("xx", "yy", "zz", "xy", "yz", "xz")
 
 
 def load_study(path: str | Path) -> Study:
@@ -433,7 +431,7 @@ class _Loader:
                              f"[{lo!r}, {hi!r}]; expected an angle in that range, or control_angle_rule = \"nearest\"",
                              value=target.angle_deg)
             if target.measured_profile_csv:
-                self.check_profile(Path(target.measured_profile_csv))
+                self.check_profile(Path(target.measured_profile_csv), target)
         if fidelity is not None and shot is not None:
             if fidelity.element_size_um * 1e-3 >= 0.5 * shot.diameter_mm:
                 self.add("fidelity.element_size_um", "an element as large as the "
@@ -446,36 +444,16 @@ class _Loader:
                 self.add(key, f"the fine zone ({depth_mm * 1e3:g} um deep) is thinner than one element "
                          f"({fidelity.element_size_um:g} um); expected at least one element")
 
-    def check_profile(self, file: Path) -> None:
+    def check_profile(self, file: Path, target: Target) -> None:
+        """Parse the measured profile once; the target keeps it (the pipeline
+        and the result key use what was validated here)."""
         key = "target.measured_profile_csv"
         if not file.is_file():
             self.add(key, "measured profile not found; expected an existing CSV file (or \"\" for none)",
                      value=str(file))
             return
-        with open(file, newline="") as fh:
-            rows = [r for r in csv.reader(line for line in fh if line.strip() and not line.lstrip().startswith("#"))]
-        if not rows:
-            self.add(key, f"{file.name} is empty; expected a header row {', '.join(PROFILE_COLUMNS)}")
-            return
-        header = [h.strip() for h in rows[0]]
-        missing = [c for c in PROFILE_COLUMNS if c not in header]
-        if missing:
-            self.add(key, f"{file.name}: header {header} lacks column(s) {', '.join(missing)}; "
-                     f"expected {', '.join(PROFILE_COLUMNS)}")
-            return
-        idx = {c: header.index(c) for c in PROFILE_COLUMNS}
-        bad = []
-        for n, row in enumerate(rows[1:], start=2):
-            try:
-                depth = float(row[idx["depth_mm"]])
-                float(row[idx["stress_MPa"]])
-                comp = row[idx["component"]].strip()
-                ok = depth >= 0 and comp in PROFILE_COMPONENTS
-            except (ValueError, IndexError):
-                ok = False
-            if not ok:
-                bad.append(n)
-        if bad:
-            shown = ", ".join(map(str, bad[:5])) + (" ..." if len(bad) > 5 else "")
-            self.add(key, f"{file.name}: bad data on row(s) {shown}; expected depth_mm >= 0, stress_MPa a number, "
-                     f"component one of {', '.join(PROFILE_COMPONENTS)}")
+        try:
+            target._measured = read_measured_profile(file)
+        except ProfileError as exc:
+            for problem in exc.problems:
+                self.add(key, problem)

@@ -16,6 +16,7 @@ from pydantic import Field, model_validator
 
 from .canonical import canonical, canonical_json
 from .fidelity import Fidelity, expand_preset
+from .measured_profile import ProfileError, read_measured_profile
 from .sections import Almen, Coverage, Dmin, Execution, Seeds, ShotSection, Target
 from .types import Name, StudyModel
 
@@ -65,11 +66,13 @@ class Study(StudyModel):
         for section in (self.almen, self.dmin, self.target, self.fidelity):
             if section is not None:
                 section._shot_diameter_m = d
-        # Fix the measured profile's content now: the key must not change under a loaded study.
-        if self.target is not None and self.target.measured_profile_csv:
-            csv = Path(self.target.measured_profile_csv)
-            if csv.is_file():
-                self.target._profile_sha256 = hashlib.sha256(csv.read_bytes()).hexdigest()
+        # Fix the measured profile's content now (the loader has parsed it
+        # already): the key must not change under a loaded study.
+        if self.target is not None and self.target.measured_profile_csv and self.target.measured_profile is None:
+            try:
+                self.target._measured = read_measured_profile(Path(self.target.measured_profile_csv))
+            except (OSError, ProfileError) as exc:
+                raise ValueError(f"target.measured_profile_csv: {exc}") from None
         return self
 
     @model_validator(mode="after")

@@ -16,6 +16,7 @@ from pydantic import AfterValidator, Field, PrivateAttr, StrictBool, model_valid
 
 from .intensity import parse_intensity
 from .items import Material, Shot, Strip
+from .measured_profile import MeasuredProfile
 from .types import (
     Angle, OpenFraction, Positive, PositiveInt, ShotScaled, StudyModel, Velocity, check,
     strictly_increasing, unique_sorted,
@@ -284,7 +285,7 @@ class Target(ShotScaled):
         "", description="CSV with columns depth_mm, stress_MPa, component for the comparison (\"\" = none)"
     )
 
-    _profile_sha256: str = PrivateAttr(default="")
+    _measured: Optional[MeasuredProfile] = PrivateAttr(default=None)
 
     @model_validator(mode="after")
     def _consistent(self) -> "Target":
@@ -320,9 +321,14 @@ class Target(ShotScaled):
 
     # --- resolved values -------------------------------------------------
     @property
+    def measured_profile(self) -> Optional[MeasuredProfile]:
+        """The measured profile as parsed when the study was loaded (None if none)."""
+        return self._measured
+
+    @property
     def measured_profile_sha256(self) -> str:
         """SHA-256 of the measured-profile CSV as it was when the study was loaded ("" if none)."""
-        return self._profile_sha256
+        return self._measured.sha256 if self._measured is not None else ""
 
     @property
     def intensity_mm(self) -> float | None:

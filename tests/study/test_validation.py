@@ -226,7 +226,7 @@ def test_measured_profile_checked(write_study, tmp_path):
     assert any("lacks column(s) stress_MPa, component" in p for p in problems), problems
     (tmp_path / "rows.csv").write_text("# comment\ndepth_mm,stress_MPa,component\n0.1,-300,xx\n-1,oops,qq\n")
     problems = validate_study(write_study({"target.measured_profile_csv": "rows.csv"}))
-    assert any("rows.csv: bad data on row(s) 3" in p for p in problems), problems
+    assert any("rows.csv: bad data on line(s) 4" in p for p in problems), problems  # file line numbers
 
 
 def test_periodic_lateral_boundary_is_valid(write_study):

@@ -177,3 +177,43 @@ def test_shipped_studies_build_their_stage_graph(name, stages):
     assert stages <= set(graph.stages)
     if name == "paper_almen_s230":  # the paper's section-4 sweep: 3 angles x 4 velocities x 6 sequences
         assert len(graph.stage_nodes("strip_runs")) == 72
+
+
+def test_measured_profile_from_the_template_through_run(micro):
+    """The shipped template, filled in as it says, goes through `peenflow check`
+    and `peenflow run`: every point is compared with our mean profile of its
+    own component (issue 9 item 2: the pipeline used to fail on the template's
+    '#' lines with KeyError 'depth_mm')."""
+    template = (HERE.parents[1] / "studies" / "data" / "measured_profile_template.csv").read_text()
+    points = [(0.0, -330.0, "xx"), (0.05, -380.0, "xx"), (0.15, -120.0, "xx"), (0.02, -300.0, "yy")]
+    csv_file = micro.parent / "measured.csv"
+    csv_file.write_text(template + "".join(f"{d},{s},{c}\n" for d, s, c in points))
+    study = micro.parent / "micro_measured.toml"
+    study.write_text('[study]\nname = "micro_measured"\nextends = "micro.toml"\n\n'
+                     '[target]\nmeasured_profile_csv = "measured.csv"\n')
+    peenflow_cli("check", study)
+    out = peenflow_cli("run", study).stdout
+    assert out.count("+ computed") == 1  # only the comparison: everything upstream is the micro study's
+    prof = peenflow.open_result(study, "residual_profile")
+    np.testing.assert_allclose(prof.measured_depth_m.values, [p[0] * 1e-3 for p in points], rtol=1e-12)
+    np.testing.assert_allclose(prof.measured_stress_MPa.values, [p[1] for p in points], rtol=1e-12)
+    assert list(prof.measured_component.values) == [0, 0, 0, 1]
+    z = prof.depth_m.values
+    ours = [np.interp(d * 1e-3, z, prof[f"stress_{c}_mean_MPa"].values) for d, _, c in points]
+    np.testing.assert_allclose(prof.predicted_at_measured_MPa.values, ours, rtol=1e-12)
+    rms = np.sqrt(np.mean((np.array(ours) - np.array([p[1] for p in points])) ** 2))
+    assert float(prof.rms_difference_MPa) == pytest.approx(rms, rel=1e-12)
+    assert float(prof.measured_peak_compressive_MPa) == -380.0
+    assert (micro.parent / "micro_measured_plots" / "residual_stress.png").stat().st_size > 0
+
+
+def test_bad_measured_profile_is_refused_with_its_line_numbers(tmp_path):
+    csv_file = tmp_path / "measured.csv"
+    csv_file.write_text("# comment\ndepth_mm,stress_MPa,component\n0.0,-300,xx\n0.1,nan,xx\n0.2,-100,zz\n-1,5,yy\n")
+    study = tmp_path / "s.toml"
+    study.write_text((HERE / "micro.toml").read_text().replace(
+        'rev_size_mm = 1.2\n\n[fidelity]', 'rev_size_mm = 1.2\nmeasured_profile_csv = "measured.csv"\n\n[fidelity]'))
+    proc = peenflow_cli("run", study, check=False)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert "target.measured_profile_csv" in proc.stderr and "line(s) 4, 5, 6" in proc.stderr
+    assert not (tmp_path / ".peenflow").exists()
