@@ -14,8 +14,9 @@ from ._common import MM, peening_task, var
 def control_curve(sat: xr.Dataset, *, interpolation: str = "pchip") -> xr.Dataset:
     """``sat``: saturation results combined over (angle_deg, velocity_m_s).
 
-    Returns the intensity table and, for plotting and inversion, each angle's
-    monotone (PCHIP) interpolant sampled on a fine velocity grid.
+    Returns the intensity table and, for plotting, each angle's interpolant
+    (``interpolation``: "pchip" or "linear", the one ``target_velocity``
+    inverts) sampled on a fine velocity grid.
     """
     table = sat.intensity_mm.transpose("angle_deg", "velocity_m_s")
     v = sat.velocity_m_s.values.astype(float)
@@ -26,12 +27,10 @@ def control_curve(sat: xr.Dataset, *, interpolation: str = "pchip") -> xr.Datase
         ints = table.values[i] * MM
         ok = np.isfinite(ints)
         if ok.sum() >= 2:
-            if interpolation == "linear":
-                curves[i] = np.interp(fine, v[ok], ints[ok]) / MM
-            else:
-                curve = ControlCurve(float(table.angle_deg.values[i]), v[ok], ints[ok])
-                curves[i] = curve.intensity(fine) / MM
-                increasing[i] = int(curve.is_increasing)
+            curve = ControlCurve(float(table.angle_deg.values[i]), v[ok], ints[ok], interpolation)
+            inside = (fine >= v[ok][0]) & (fine <= v[ok][-1])
+            curves[i, inside] = curve.intensity(fine[inside]) / MM
+            increasing[i] = int(curve.is_increasing)
     return xr.Dataset(
         {
             "intensity_mm": var(table.values, ("angle_deg", "velocity_m_s"), "mm", "Almen intensity"),

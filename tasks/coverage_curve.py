@@ -37,7 +37,7 @@ def dent_from_dataset(ds: xr.Dataset) -> DentEllipse:
 @peening_task(version="1")
 def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, shot_radius_m: float,
                    grid_points: int, max_shots: int | None, shot_counts: list | None, sequences: int,
-                   seeds: list, coverage_percent: float) -> xr.Dataset:
+                   seeds: list, coverage_percent: float, full_coverage_percent: float = 98.0) -> xr.Dataset:
     ellipse = dent_from_dataset(dent)
     side = scalar(rev, "rev_side_m")
     measure = scalar(rev, "measure_side_m")
@@ -55,7 +55,7 @@ def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, shot_
     landings = [shot_stream(n_max, shot_radius_m, half, half, angle_deg, 1.0, int(s)).landing
                 for s in seeds[:sequences]]
     cov = coverage_curves(landings, ellipse, gx, gy, counts)
-    fit = fit_avrami(counts, cov)
+    fit = fit_avrami(counts, cov, full_coverage_percent)
     n_f = fit.full_coverage_shots
     n_c = fit.shots_for_coverage(coverage_percent)
     return xr.Dataset(
@@ -67,12 +67,13 @@ def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, shot_
                                                ("shots",), "%", "100 (1 - (1 - A_dent/A_peen)^N)"),
             "avrami_rate": var(fit.rate, (), "1/shot", "A of eq. (5)"),
             "avrami_residual_rms_percent": var(fit.residual_rms, (), "%"),
-            "full_coverage_shots": var(n_f, (), "shots", "N_f: 98 % coverage"),
+            "full_coverage_shots": var(n_f, (), "shots", f"N_f: {full_coverage_percent:g} % coverage"),
             "coverage_shots": var(n_c, (), "shots", f"N_c for {coverage_percent:g} % coverage"),
             "coverage_shots_rounded": var(int(math.ceil(n_c)), (), "shots"),
             "dent_area_m2": var(ellipse.area, (), "m2"),
             "peening_area_m2": var(side ** 2, (), "m2"),
         },
         coords={"sequence": np.arange(len(landings)), "shots": counts},
-        attrs={"target_coverage_percent": coverage_percent, "grid_points": grid_points},
+        attrs={"target_coverage_percent": coverage_percent, "full_coverage_percent": full_coverage_percent,
+               "grid_points": grid_points},
     )

@@ -70,7 +70,13 @@ def build_graph(path) -> Graph:
             "friction": study.shot.friction_coefficient}
     fid = fidelity_params(study.fidelity)
     dmin_settings = {"threshold": study.dmin.threshold, "resolution_m": study.dmin.resolution_m,
-                     "min_distance_m": study.dmin.min_distance_m, "max_distance_m": study.dmin.max_distance_m}
+                     "min_distance_m": study.dmin.min_distance_m, "max_distance_m": study.dmin.max_distance_m,
+                     "method": study.dmin.method}
+    c = study.coverage
+    coverage = {"shot_radius_m": study.shot.radius_m, "grid_points": c.grid_points, "max_shots": c.max_shots,
+                "shot_counts": None if c.shot_counts is None else list(c.shot_counts), "sequences": c.sequences,
+                "seeds": list(study.seeds.seeds("coverage", c.sequences)),
+                "full_coverage_percent": c.full_coverage_percent}
     control = None
 
     if study.almen is not None:
@@ -92,13 +98,7 @@ def build_graph(path) -> Graph:
             dent_s = g.sweep(indentation, dims={"angle_deg": angles}, upstream={"impact": imp},
                              stage="strip_indentation")
             g.sweep(coverage_curve, dims={"angle_deg": angles}, upstream={"dent": dent_s, "rev": rev},
-                    stage="strip_coverage", params={
-                        "shot_radius_m": study.shot.radius_m, "grid_points": study.coverage.grid_points,
-                        "max_shots": study.coverage.max_shots,
-                        "shot_counts": None if study.coverage.shot_counts is None else list(study.coverage.shot_counts),
-                        "sequences": study.coverage.sequences,
-                        "seeds": list(study.seeds.seeds("coverage", study.coverage.sequences)),
-                        "coverage_percent": 100.0})
+                    stage="strip_coverage", params={**coverage, "coverage_percent": 100.0})
         else:
             rev = g.add(rev_size, stage="strip_rev", params={
                 "rule": almen.rev_rule, "thickness_m": h, "shot_diameter_m": D,
@@ -121,7 +121,8 @@ def build_graph(path) -> Graph:
         vel = g.add(target_velocity, upstream={} if given else {"control": control}, params={
             "intensity_mm": t.intensity_mm, "angle_deg": t.angle_deg, "rule": t.control_angle_rule,
             "velocity_m_s": t.velocity_m_s,
-            "allow_extrapolated": bool(study.almen and study.almen.allow_extrapolated_intensity)})
+            "allow_extrapolated": bool(study.almen and study.almen.allow_extrapolated_intensity),
+            **({} if given else {"interpolation": study.almen.interpolation})})
         imp_t = g.add(single_impact, upstream={"velocity": vel}, stage="target_impact", params={
             "material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg,
             "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(t.rev_thickness_m, IMPACT_BLOCK_D * D)})
@@ -145,12 +146,7 @@ def build_graph(path) -> Graph:
                 "side_m": t.rev_size_mm * 1e-3,
                 "measure_side_m": None if t.measure_size_mm is None else t.measure_size_mm * 1e-3})
         cov = g.add(coverage_curve, upstream={"dent": dent, "rev": rev_t}, params={
-            "angle_deg": t.angle_deg, "shot_radius_m": study.shot.radius_m,
-            "grid_points": study.coverage.grid_points, "max_shots": study.coverage.max_shots,
-            "shot_counts": None if study.coverage.shot_counts is None else list(study.coverage.shot_counts),
-            "sequences": study.coverage.sequences,
-            "seeds": list(study.seeds.seeds("coverage", study.coverage.sequences)),
-            "coverage_percent": t.coverage_percent})
+            **coverage, "angle_deg": t.angle_deg, "coverage_percent": t.coverage_percent})
         runs_t = g.sweep(target_runs, dims={"sequence": list(range(t.sequences))},
                          upstream={"rev": rev_t, "velocity": vel, "coverage": cov},
                          params={"material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg},

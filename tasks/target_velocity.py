@@ -58,7 +58,9 @@ def _check_saturated(control: xr.Dataset, angles, velocities) -> None:
 @peening_task(version="2")
 def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | None,
                     angle_deg: float, rule: str = "nearest", velocity_m_s: float | None = None,
-                    allow_extrapolated: bool = False) -> xr.Dataset:
+                    allow_extrapolated: bool = False, interpolation: str = "pchip") -> xr.Dataset:
+    """The velocity on the control curve (``interpolation``: "pchip" or
+    "linear" in velocity, as ``almen.interpolation``) at the target intensity."""
     if velocity_m_s is not None:
         return xr.Dataset({"velocity_m_s": var(velocity_m_s, (), "m/s", "given in the study")},
                           attrs={"method": "given"})
@@ -69,7 +71,7 @@ def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | 
         ok = np.isfinite(ints)
         if ok.sum() < 2:
             raise IntensityOutOfRange(f"control curve at {a} deg has fewer than 2 valid points")
-        curves.append(ControlCurve(float(a), v[ok], ints[ok]))
+        curves.append(ControlCurve(float(a), v[ok], ints[ok], interpolation))
     family = ControlCurveFamily(tuple(curves))
     curve = family.at_angle(angle_deg, "linear" if rule == "interpolate" else "nearest")
     lo, hi = curve.velocity_range
@@ -95,5 +97,6 @@ def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | 
     return xr.Dataset(
         {"velocity_m_s": var(v, (), "m/s", "velocity giving the target intensity on the control curve"),
          "intensity_mm": var(intensity_mm, (), "mm", "target Almen intensity")},
-        attrs={"method": rule, "control_angles_deg": ", ".join(f"{a:g}" for a in family.angles)},
+        attrs={"method": rule, "interpolation": interpolation,
+               "control_angles_deg": ", ".join(f"{a:g}" for a in family.angles)},
     )

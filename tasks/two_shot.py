@@ -3,9 +3,11 @@
 Two shots land at (+-d/2, 0) on a plate of the target material.  Their
 eq. (4) regions (top-surface von Mises residual >= 5 % of its maximum) are
 compared: d_min is the smallest d at which they are separate.  Instead of
-the paper's linear scan, the search brackets d_min from the single-impact
-region (2 x its radius) and bisects to the requested resolution; every
-two-shot run is checkpointed, so a killed search resumes where it stopped.
+the paper's linear scan, the search (``method = "bisection"``, the default)
+brackets d_min from the single-impact region (2 x its radius) and bisects
+to the requested resolution; ``method = "scan"`` is the paper's linear scan
+from the bracket's lower end in steps of the resolution. Every two-shot run
+is checkpointed, so a killed search resumes where it stopped.
 
 Normal impacts use a quarter model: the symmetry plane x = 0 mirrors the
 shot at +d/2 onto -d/2 (the two land together).  Oblique impacts use a half
@@ -18,7 +20,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from peenflow.methods import bracket_from_radius, find_dmin, regions_overlap, single_impact_region_radius
+from peenflow.methods import (bracket_from_radius, find_dmin, regions_overlap, scan_dmin,
+                              single_impact_region_radius)
 
 from . import _kernel as K
 from ._common import peening_task, var
@@ -52,8 +55,9 @@ def two_shot_surface(material, shot, fidelity, speed, angle_deg, d, half_width, 
 @peening_task(version="1")
 def dmin(impact: xr.Dataset, *, material: dict, shot: dict, fidelity: dict, angle_deg: float,
          thickness_m: float, threshold: float, resolution_m: float,
-         min_distance_m: float, max_distance_m: float, ctx=None) -> xr.Dataset:
-    """Bisection for d_min at the single impact's velocity and angle (read from ``impact``)."""
+         min_distance_m: float, max_distance_m: float, method: str = "bisection", ctx=None) -> xr.Dataset:
+    """d_min at the single impact's velocity and angle (read from ``impact``), by
+    bisection or linear scan (``method``)."""
     velocity_m_s = float(impact.attrs["velocity_m_s"])
     radius = single_impact_region_radius(impact.x_cell_full.values, impact.y_cell_full.values,
                                          impact.surface_von_mises_Pa.values, (0.0, 0.0), threshold)
@@ -79,7 +83,10 @@ def dmin(impact: xr.Dataset, *, material: dict, shot: dict, fidelity: dict, angl
                 ctx.progress(len(done), None, "two-shot runs", f"d = {d * 1e3:.3f} mm")
         return done[key]
 
-    search = find_dmin(overlaps, lower, upper, resolution_m, floor=min_distance_m)
+    if method == "scan":
+        search = scan_dmin(overlaps, lower, upper, resolution_m, floor=min_distance_m, ceiling=max_distance_m)
+    else:
+        search = find_dmin(overlaps, lower, upper, resolution_m, floor=min_distance_m)
     runs = sorted(done)
     return xr.Dataset(
         {
@@ -90,5 +97,5 @@ def dmin(impact: xr.Dataset, *, material: dict, shot: dict, fidelity: dict, angl
             "overlap": var(np.array([int(done[d]) for d in runs]), ("run",), "", "1 if the regions touch"),
         },
         coords={"distance_m": ("run", np.array(runs))},
-        attrs={"angle_deg": angle_deg, "velocity_m_s": velocity_m_s, "threshold": threshold},
+        attrs={"angle_deg": angle_deg, "velocity_m_s": velocity_m_s, "threshold": threshold, "method": method},
     )

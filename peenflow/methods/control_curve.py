@@ -2,7 +2,8 @@
 
 A control curve is known at a few velocities (the paper: 25, 35, 45, 55 m/s).
 It is interpolated with PCHIP (piecewise cubic Hermite, Fritsch-Carlson
-slopes), which preserves monotonicity: an increasing data set gives an
+slopes; ``interpolation="pchip"``, the default) or piecewise linearly
+(``"linear"``); both preserve monotonicity. PCHIP: an increasing data set gives an
 increasing curve with no overshoot, so the inverse (the velocity that gives a
 target intensity, §5: 12A = 0.3 mm -> 47 m/s at 67.5°) is unique. PCHIP also
 reproduces linear data exactly.
@@ -25,7 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
+from scipy.interpolate import PchipInterpolator, make_interp_spline
 from scipy.optimize import brentq
 
 from ._arrays import read_only as _ro
@@ -38,11 +39,13 @@ class ControlCurve:
 
     angle_deg : deg. velocities : (k,) m/s, strictly increasing, k >= 2.
     intensities : (k,) m, Almen intensity (saturation arc height) at each velocity.
+    interpolation : "pchip" (monotone cubic) or "linear" (piecewise linear).
     """
 
     angle_deg: float
     velocities: np.ndarray
     intensities: np.ndarray
+    interpolation: str = "pchip"
     _pchip: PchipInterpolator = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -56,7 +59,13 @@ class ControlCurve:
             raise ValueError("velocities must be strictly increasing")
         object.__setattr__(self, "velocities", v)
         object.__setattr__(self, "intensities", i)
-        object.__setattr__(self, "_pchip", PchipInterpolator(v, i, extrapolate=False))
+        if self.interpolation == "pchip":
+            interpolant = PchipInterpolator(v, i, extrapolate=False)
+        elif self.interpolation == "linear":
+            interpolant = make_interp_spline(v, i, k=1)
+        else:
+            raise ValueError(f"interpolation = {self.interpolation!r}: expected 'pchip' or 'linear'")
+        object.__setattr__(self, "_pchip", interpolant)
 
     @property
     def velocity_range(self) -> tuple[float, float]:

@@ -134,12 +134,19 @@ class AvramiFit:
 
     rate : A, 1/shot. residual_rms : %, rms of (data - model).
     counts, coverage : the fitted data (shots, %), flattened over sequences.
+    full_percent : %, the visible coverage that counts as full (N_f; 98 by
+    SAE J2277 and the paper).
     """
 
     rate: float
     residual_rms: float
     counts: np.ndarray = field(repr=False)
     coverage: np.ndarray = field(repr=False)
+    full_percent: float = FULL_COVERAGE_PERCENT
+
+    def __post_init__(self):
+        if not 0.0 < self.full_percent < 100.0:
+            raise ValueError(f"full coverage must be a percentage in (0, 100), got {self.full_percent!r}")
 
     def coverage_at(self, n) -> np.ndarray:
         """Model coverage (%) after n shots."""
@@ -147,33 +154,35 @@ class AvramiFit:
 
     @property
     def full_coverage_shots(self) -> float:
-        """N_f: shots for 98 % visible coverage, ``ln(100/2) / A``."""
-        return float(-np.log1p(-FULL_COVERAGE_PERCENT / 100.0) / self.rate)
+        """N_f: shots for full (``full_percent``) visible coverage, ``-ln(1 - full/100) / A``
+        (``ln 50 / A`` at 98 %)."""
+        return float(-np.log1p(-self.full_percent / 100.0) / self.rate)
 
     def shots_for_coverage(self, percent: float) -> float:
         """N_c for a coverage specification in % (SAE J2277 convention, paper §3.2.2).
 
         * percent >= 100: ``N_c = (percent / 100) · N_f`` (200 % = twice the
           exposure of full coverage), the paper's rule;
-        * 98 <= percent < 100: ``N_f`` (98 % visible coverage *is* full coverage);
-        * percent < 98: the Avrami inverse ``-ln(1 - percent/100) / A``.
+        * full <= percent < 100: ``N_f`` (``full_percent``, 98 % by default,
+          visible coverage *is* full coverage);
+        * percent < full: the Avrami inverse ``-ln(1 - percent/100) / A``.
         Monotone in ``percent``.
         """
         if not percent > 0:
             raise ValueError("coverage must be positive")
         if percent >= 100.0:
             return percent / 100.0 * self.full_coverage_shots
-        if percent >= FULL_COVERAGE_PERCENT:
+        if percent >= self.full_percent:
             return self.full_coverage_shots
         return float(-np.log1p(-percent / 100.0) / self.rate)
 
 
-def fit_avrami(counts, coverage) -> AvramiFit:
+def fit_avrami(counts, coverage, full_percent: float = FULL_COVERAGE_PERCENT) -> AvramiFit:
     """Fit eq. (5) to coverage data.
 
     counts : (m,) shot numbers. coverage : (m,) or (n_seq, m), %, pooled over
-    sequences (NaN entries dropped). Returns AvramiFit; ValueError if no point
-    has 0 < C.
+    sequences (NaN entries dropped). full_percent : %, what counts as full
+    coverage (N_f). Returns AvramiFit; ValueError if no point has 0 < C.
     """
     n = np.asarray(counts, dtype=float)
     c = np.atleast_2d(np.asarray(coverage, dtype=float))
@@ -199,6 +208,6 @@ def fit_avrami(counts, coverage) -> AvramiFit:
     )
     rate = float(np.exp(res.x[0]))
     r = 100.0 * -np.expm1(-rate * nn) - cc
-    return AvramiFit(rate, float(np.sqrt(np.mean(r**2))), _ro(nn), _ro(cc))
+    return AvramiFit(rate, float(np.sqrt(np.mean(r**2))), _ro(nn), _ro(cc), float(full_percent))
 
 

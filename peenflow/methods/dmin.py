@@ -35,6 +35,12 @@ evaluations are consistent by construction), so a caller who doubts it should
 probe a few distances above d_min. ``d_min`` returned is
 the upper end of the final bracket: the smallest *evaluated* distance known to
 give independent impacts, so it is conservative by at most ``resolution``.
+``scan_dmin`` is the paper's linear scan: it steps by ``resolution`` from the
+bracket's lower end (upwards while the regions overlap, downwards while they
+are independent) and so evaluates every distance on its way: it finds the
+first change of the predicate from where it starts, where bisection assumes
+monotony between its probes, and costs ``|d_min - lower| / resolution`` runs
+instead of about ``log2`` of that.
 
 REV sizes (§3.1, §4.1): REV top-surface side 3 d_min, measuring region the
 central d_min square; the Almen-strip REV of §4.1 is 6D × 6D with a 2D × 2D
@@ -223,6 +229,57 @@ def find_dmin(
         else:
             upper = mid
     return DminSearch(float(upper), float(lower), float(upper), float(resolution), tuple(evals))
+
+
+def scan_dmin(
+    overlaps: Callable[[float], bool],
+    lower: float,
+    upper: float,
+    resolution: float,
+    *,
+    floor: float = 0.0,
+    ceiling: float = float("inf"),
+    max_evaluations: int = 200,
+) -> DminSearch:
+    """The paper's linear scan for d_min in steps of ``resolution`` (m).
+
+    Starts at ``lower`` (m, e.g. from :func:`bracket_from_radius`; ``upper`` is
+    unused but kept for the same call as :func:`find_dmin`) and steps up while
+    the regions overlap, or down (not below ``floor``) while they are
+    independent, until the predicate changes; d_min is the first independent
+    distance of the scan. ValueError if the scan leaves ``[floor, ceiling]``
+    or takes more than ``max_evaluations`` runs.
+    """
+    del upper
+    if not resolution > 0 or lower < floor:
+        raise ValueError("need lower >= floor and resolution > 0")
+    evals: list[tuple[float, bool]] = []
+
+    def ev(d):
+        if len(evals) >= max_evaluations:
+            raise ValueError(f"d_min scan exceeded {max_evaluations} evaluations; evaluations so far: {evals}")
+        r = bool(overlaps(float(d)))
+        evals.append((float(d), r))
+        return r
+
+    # distances as lower +- k resolution (no drift from repeated addition)
+    at = lambda k: float(lower) + k * resolution  # noqa: E731
+    if ev(at(0)):
+        k = 0
+        while True:
+            if at(k + 1) > ceiling:
+                raise ValueError(f"impacts still overlap at the largest distance {at(k):.6g} m; d_min > {at(k):.6g} m")
+            if not ev(at(k + 1)):
+                return DminSearch(at(k + 1), at(k), at(k + 1), float(resolution), tuple(evals))
+            k += 1
+    k = 0
+    while True:
+        if at(k) <= floor:
+            raise ValueError(f"impacts are independent even at the smallest distance {floor} m; d_min <= {floor} m")
+        below = max(floor, at(k - 1))
+        if ev(below):
+            return DminSearch(at(k), below, at(k), float(resolution), tuple(evals))
+        k -= 1
 
 
 @dataclass(frozen=True)

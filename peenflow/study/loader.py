@@ -30,7 +30,7 @@ from typing import Any
 from pydantic import BaseModel, ValidationError
 
 from .errors import Problem, StudyError, format_value, suggest, translate
-from .fidelity import Fidelity, expand_preset
+from .fidelity import REMOVED_KEYS, Fidelity, expand_preset
 from .items import Material, Shot, Strip
 from .measured_profile import PROFILE_COMPONENTS, ProfileError, read_measured_profile
 from .model import Study, StudyInfo
@@ -340,6 +340,9 @@ class _Loader:
             if "overrides" in data["fidelity"]:  # bookkeeping field of the resolved model, not a key
                 self.add("fidelity.overrides", "unknown key (override a preset by giving the key itself, "
                          "e.g. element_size_um = 30)", value=data["fidelity"].pop("overrides"))
+            for key, why in REMOVED_KEYS.items():
+                if key in data["fidelity"]:
+                    self.add(f"fidelity.{key}", why, value=data["fidelity"].pop(key))
             data["fidelity"] = expand_preset(data["fidelity"])
         self.fill_dmin_defaults(data)
 

@@ -95,6 +95,11 @@ def test_avrami_recovers_closed_form_rate():
     assert fit.shots_for_coverage(50) == pytest.approx(np.log(2) / fit.rate)
     assert fit.shots_for_coverage(99) == fit.full_coverage_shots
     assert fit.coverage_at(fit.full_coverage_shots) == pytest.approx(98.0)
+    # a study that calls 95 % full coverage: N_f = ln(20) / A, and 96 % is already "full"
+    fit95 = fit_avrami(n, expected_coverage_uniform(n, q, 1.0), full_percent=95.0)
+    assert fit95.full_coverage_shots == pytest.approx(np.log(20) / fit.rate, rel=1e-9)
+    assert fit95.shots_for_coverage(96) == fit95.full_coverage_shots
+    assert fit95.shots_for_coverage(200) == pytest.approx(2 * np.log(20) / fit.rate, rel=1e-9)
 
 
 def test_avrami_fit_with_noise_and_saturated_points():

@@ -11,6 +11,7 @@ from peenflow.methods.dmin import (
     find_dmin,
     impact_region,
     regions_overlap,
+    scan_dmin,
     single_impact_region_radius,
     stress_region,
 )
@@ -78,6 +79,27 @@ def test_find_dmin_on_an_analytic_predicate():
 
     res2 = find_dmin(lambda d: d < true, 3e-3, 4e-3, 1e-6)  # bracket too high: expand downwards
     assert res2.lower < true <= res2.upper and res2.upper - res2.lower <= 1e-6
+
+
+def test_scan_dmin_steps_by_the_resolution_from_either_side():
+    true = 2.3456e-3
+    up = scan_dmin(lambda d: d < true, 2.0e-3, 4.0e-3, 0.05e-3)
+    # the paper's procedure: every distance from the start in steps of the resolution
+    assert [d for d, _ in up.evaluations] == pytest.approx([2.0e-3 + k * 0.05e-3 for k in range(8)], rel=1e-12)
+    assert up.lower < true <= up.d_min == up.upper and up.upper - up.lower == pytest.approx(0.05e-3)
+    down = scan_dmin(lambda d: d < true, 2.6e-3, 4.0e-3, 0.05e-3)
+    assert down.lower < true <= down.d_min and down.d_min - down.lower == pytest.approx(0.05e-3)
+    assert len(down.evaluations) == 7  # 2.60, 2.55, ..., 2.35 independent (6); 2.30 overlaps
+    # the same answer as the bisection to within one resolution
+    bis = find_dmin(lambda d: d < true, 2.0e-3, 4.0e-3, 0.05e-3)
+    assert abs(bis.d_min - up.d_min) <= 0.05e-3
+
+
+def test_scan_dmin_errors():
+    with pytest.raises(ValueError, match="independent even at"):
+        scan_dmin(lambda d: False, 1.0, 2.0, 0.1, floor=0.8)
+    with pytest.raises(ValueError, match="still overlap at the largest distance"):
+        scan_dmin(lambda d: True, 1.0, 2.0, 0.1, ceiling=1.5)
 
 
 def test_find_dmin_errors():

@@ -37,7 +37,6 @@ def test_si_accessors(write_study):
     assert s.dmin.min_distance_m == pytest.approx(0.58e-3) and s.dmin.max_distance_m == pytest.approx(4 * 0.58e-3)
     assert s.dmin.search_settings()["threshold"] == 0.05
     assert s.fidelity.element_size_m == pytest.approx(60e-6) and s.fidelity.fine_depth_m == pytest.approx(0.75 * 0.58e-3)
-    assert s.fidelity.dtype == "float64"
 
 
 def test_dmin_defaults_follow_the_almen_sweep(write_study):

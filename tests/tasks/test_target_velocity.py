@@ -52,3 +52,18 @@ def test_outside_an_extrapolated_curve_the_ladder_is_what_is_reported():
         target_velocity.fn(control, intensity_mm=0.15, angle_deg=90.0)
     with pytest.raises(IntensityOutOfRange):
         target_velocity.fn(control, intensity_mm=0.15, angle_deg=90.0, allow_extrapolated=True)
+
+
+def test_linear_interpolation_is_what_the_velocity_is_read_from():
+    """almen.interpolation = "linear" reaches the inverse (issue 9): on a curve
+    with a kink the piecewise-linear inverse differs from PCHIP's."""
+    v = np.array([30.0, 40.0, 50.0])
+    dims = ("angle_deg", "velocity_m_s")
+    control = xr.Dataset({"intensity_mm": (dims, [[0.2, 0.3, 0.32]]), "intensity_extrapolated": (dims, [[0, 0, 0]]),
+                          "saturation_shots": (dims, [[100, 200, 300]]), "largest_shot_count": ((), 480.0)},
+                         coords={"angle_deg": [90.0], "velocity_m_s": v})
+    linear = target_velocity.fn(control, intensity_mm=0.31, angle_deg=90.0, interpolation="linear")
+    assert float(linear.velocity_m_s) == pytest.approx(45.0, rel=1e-12)  # halfway on the 40-50 m/s segment
+    assert linear.attrs["interpolation"] == "linear"
+    pchip = target_velocity.fn(control, intensity_mm=0.31, angle_deg=90.0)
+    assert abs(float(pchip.velocity_m_s) - 45.0) > 0.5  # PCHIP bends with the kink: not the chord
