@@ -62,6 +62,32 @@ def fidelity_params(f) -> dict:
     }
 
 
+#: Every stage a study can have, in dependency order, with when it runs: the
+#: one list of stage names (the graph's, so `check`, `status`, `show`,
+#: `rerun` and docs/study-files.md use the same names; tests keep them equal).
+STAGES: dict[str, str] = {
+    "strip_impact": '[almen] with rev_rule = "dmin": one shot on a strip block per d_min angle',
+    "strip_dmin": '[almen] with rev_rule = "dmin": two-shot search for d_min (eq. 4) per angle',
+    "strip_rev": "[almen]: the strip REV (3 d_min, the paper's 6D, or almen.rev_size_mm)",
+    "strip_indentation": '[almen] with rev_rule = "dmin": the dent ellipse of each strip impact',
+    "strip_coverage": '[almen] with rev_rule = "dmin": coverage curve on the strip REV (Fig. 11)',
+    "strip_runs": "[almen]: strip REV runs per angle, velocity and sequence, a snapshot at every shot count",
+    "arc_height": "[almen]: arc heights (eqs. 6-9) along the shot ladder",
+    "saturation": "[almen]: saturation fit (eq. 10) and intensity at eq. (11)'s saturation point",
+    "control_curve": "[almen]: intensity against velocity, per angle (Fig. 17)",
+    "target_velocity": "[target]: the velocity for the target intensity (or target.velocity_m_s as given)",
+    "target_impact": "[target]: one shot on a block of the target material",
+    "target_indentation": "[target]: the dent ellipse through the pile-up crest",
+    "target_rev_thickness": '[target] with rev_thickness_mm = "auto": the REV depth by a convergence check',
+    "target_dmin": "[target] without rev_size_mm: two-shot search for d_min",
+    "target_rev": "[target]: the target REV (3 d_min, or target.rev_size_mm)",
+    "coverage_curve": "[target]: Monte-Carlo coverage, eq. (5) fit, N_f and N_c",
+    "target_runs": "[target]: the final REV runs (N_c shots per sequence)",
+    "residual_profile": "[target]: mean residual-stress profile with spread; the free part; the measured "
+                        "profile's comparison when target.measured_profile_csv is given",
+}
+
+
 def build_graph(path) -> Graph:
     study = load_study(path)
     g = Graph(study.name)
@@ -161,6 +187,9 @@ def build_graph(path) -> Graph:
     ex = study.execution
     g.execution = {k: v for k, v in (("workers", ex.workers), ("threads", ex.threads_per_worker))
                    if isinstance(v, int)}
+    unknown = set(g.stages) - set(STAGES)
+    if unknown:  # a programming error: a stage added without its name in STAGES
+        raise RuntimeError(f"stages missing from tasks.pipeline.STAGES: {sorted(unknown)}")
     out_dir = Path(study.path).parent / f"{study.name}_plots"
     g.reports.append(lambda graph, store: write_plots(graph, store, out_dir))
     return g

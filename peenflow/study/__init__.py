@@ -7,7 +7,6 @@ numerical fidelity and the seeds. See ``docs/study-files.md``.
     from peenflow.study import load_study
     study = load_study("studies/paper_al7075.toml")
     study.shot.diameter_m, study.target.material.youngs_modulus_Pa   # 0.00058, 71e9
-    study.stages()   # ('strip_dmin', 'control_curves', 'target_dmin', 'coverage', 'residual_stress')
 
 ``load_study`` raises one :class:`StudyError` listing every problem (key path,
 bad value, what is expected); ``validate_study`` returns those messages.
@@ -20,11 +19,11 @@ from .fidelity import Fidelity
 from .intensity import parse_intensity
 from .items import JohnsonCook, Material, Shot, Strip
 from .loader import LIBRARY_DIR, PROFILE_COMPONENTS, load_study, validate_study
-from .model import SCHEMA_VERSION, STAGES, Study, StudyInfo
+from .model import SCHEMA_VERSION, Study, StudyInfo
 from .sections import Almen, Coverage, Dmin, Execution, Seeds, ShotSection, Target
 
 __all__ = [
-    "load_study", "validate_study", "StudyError", "Study", "StudyInfo", "STAGES", "SCHEMA_VERSION",
+    "load_study", "validate_study", "StudyError", "Study", "StudyInfo", "SCHEMA_VERSION",
     "Material", "JohnsonCook", "Shot", "Strip", "ShotSection", "Almen", "Dmin", "Coverage", "Target",
     "Fidelity", "FIDELITY_PRESETS", "Seeds", "Execution", "canonical", "canonical_json", "parse_intensity",
     "LIBRARY_DIR", "PROFILE_COMPONENTS",

@@ -20,21 +20,9 @@ from .measured_profile import ProfileError, read_measured_profile
 from .sections import Almen, Coverage, Dmin, Execution, Seeds, ShotSection, Target
 from .types import Name, StudyModel
 
-__all__ = ["Study", "StudyInfo", "STAGES", "SCHEMA_VERSION"]
+__all__ = ["Study", "StudyInfo", "SCHEMA_VERSION"]
 
 SCHEMA_VERSION = 1
-
-#: Every stage a study can ask for, in dependency order.
-#:  strip_dmin      two-shot search on the Almen strip (almen.rev_rule = "dmin")
-#:  control_curves  strip REV runs -> arc heights -> saturation -> intensity vs velocity
-#:  target_dmin     two-shot search on the target (no target.rev_size_mm)
-#:  coverage        single impact on the target -> dent -> Monte Carlo coverage -> N_f, N_c
-#:  residual_stress final target REV runs (N_c shots, target.sequences sequences)
-#:  comparison      residual stress vs the measured profile (target.measured_profile_csv)
-STAGES: tuple[str, ...] = (
-    "strip_dmin", "control_curves", "target_dmin", "coverage", "residual_stress", "comparison",
-)
-
 
 class StudyInfo(StudyModel):
     """[study]: name, description, and where the rest came from."""
@@ -104,32 +92,6 @@ class Study(StudyModel):
     def directory(self) -> Path:
         """The study file's folder (the default store lives beside it)."""
         return self.path.parent
-
-    # --- what to run -----------------------------------------------------
-    def stages(self) -> tuple[str, ...]:
-        """The stages this study runs, in dependency order (a subset of STAGES).
-
-        No [target] -> stops at the control curves; no [almen] (target with
-        velocity_m_s) -> no control curves; a target REV size given -> no
-        target d_min search; no measured profile -> no comparison.
-        """
-        out: list[str] = []
-        if self.almen is not None:
-            if self.almen.rev_rule == "dmin":
-                out.append("strip_dmin")
-            out.append("control_curves")
-        if self.target is not None:
-            if self.target.rev_size_mm is None:
-                out.append("target_dmin")
-            out += ["coverage", "residual_stress"]
-            if self.target.measured_profile_csv:
-                out.append("comparison")
-        return tuple(out)
-
-    def runs(self, stage: str) -> bool:
-        if stage not in STAGES:
-            raise ValueError(f"unknown stage {stage!r}; stages are {', '.join(STAGES)}")
-        return stage in self.stages()
 
     # --- target <-> control curves ---------------------------------------
     def control_angles(self) -> tuple[tuple[float, float], ...]:

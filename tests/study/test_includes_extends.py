@@ -107,7 +107,7 @@ def test_extends_chain_of_three_and_paths_relative_to_their_file(write_study, tm
     s = load_study(child)
     assert s.target.material.name == "Soft"
     assert s.target.measured_profile_csv == str(tmp_path / "base" / "profile.csv")
-    assert s.stages()[-1] == "comparison"
+    assert s.target.measured_profile is not None  # parsed from the grandparent's path
     assert s.seeds.base == 99
     assert len(s.extends_chain) == 3
 
@@ -121,20 +121,26 @@ def test_parent_with_problem_is_reported_with_its_file(write_study, tmp_path):
 
 
 def test_stages_follow_sections(write_study, tmp_path):
-    assert load_study(write_study()).stages() == (
-        "strip_dmin", "control_curves", "target_dmin", "coverage", "residual_stress")
+    from peenflow.api import load_study_graph
+
+    stages = lambda p: tuple(load_study_graph(p).stages)  # noqa: E731
+    full = stages(write_study())
+    assert {"strip_dmin", "control_curve", "target_dmin", "coverage_curve", "residual_profile"} <= set(full)
+    assert "target_rev_thickness" not in full  # only with rev_thickness_mm = "auto"
+    no_target = stages(write_study({"target": DELETE}))
+    assert no_target[-1] == "control_curve" and not any(s.startswith("target") for s in no_target)
     s = load_study(write_study({"target": DELETE}))
-    assert s.stages() == ("strip_dmin", "control_curves") and s.control_angles() == ()
+    assert s.control_angles() == ()
+    paper_rev = stages(write_study({"target": DELETE, "almen.rev_rule": "paper"}))
+    assert "strip_dmin" not in paper_rev and "strip_impact" not in paper_rev
     s = load_study(write_study({"target": DELETE, "almen.rev_rule": "paper"}))
-    assert s.stages() == ("control_curves",)
     assert s.almen.rev_side_m() == pytest.approx(6 * 0.58e-3) and s.almen.measure_side_m() == pytest.approx(2 * 0.58e-3)
-    s = load_study(write_study({"almen": DELETE, "target.almen_intensity": DELETE, "target.velocity_m_s": 47.0,
-                                "target.rev_size_mm": 4.5}))
-    assert s.stages() == ("coverage", "residual_stress")
-    assert s.runs("coverage") and not s.runs("control_curves")
-    assert s.target.measure_side_m() == pytest.approx(1.5e-3)
-    with pytest.raises(ValueError, match="unknown stage"):
-        s.runs("almen")
+    given = write_study({"almen": DELETE, "target.almen_intensity": DELETE, "target.velocity_m_s": 47.0,
+                         "target.rev_size_mm": 4.5})
+    target_only = stages(given)
+    assert "coverage_curve" in target_only and "target_dmin" not in target_only
+    assert not any(x.startswith("strip") for x in target_only) and "control_curve" not in target_only
+    assert load_study(given).target.measure_side_m() == pytest.approx(1.5e-3)
 
 
 def test_control_angles_nearest_and_interpolate(write_study):
