@@ -171,6 +171,21 @@ class DminSearch:
     evaluations: tuple
 
 
+def _recorded(overlaps: Callable[[float], bool], max_evaluations: int, what: str):
+    """``(ev, evals)``: ``ev(d)`` calls ``overlaps`` and appends ``(d, result)``
+    to ``evals``, refusing to run more than ``max_evaluations`` times."""
+    evals: list[tuple[float, bool]] = []
+
+    def ev(d):
+        if len(evals) >= max_evaluations:
+            raise ValueError(f"d_min {what} exceeded {max_evaluations} evaluations; evaluations so far: {evals}")
+        r = bool(overlaps(float(d)))
+        evals.append((float(d), r))
+        return r
+
+    return ev, evals
+
+
 def find_dmin(
     overlaps: Callable[[float], bool],
     lower: float,
@@ -193,14 +208,7 @@ def find_dmin(
     """
     if not (upper > lower >= floor) or not resolution > 0:
         raise ValueError("need floor <= lower < upper and resolution > 0")
-    evals: list[tuple[float, bool]] = []
-
-    def ev(d):
-        if len(evals) >= max_evaluations:
-            raise ValueError(f"d_min search exceeded {max_evaluations} evaluations; evaluations so far: {evals}")
-        r = bool(overlaps(float(d)))
-        evals.append((float(d), r))
-        return r
+    ev, evals = _recorded(overlaps, max_evaluations, "search")
 
     step = upper - lower
     if not ev(lower):
@@ -253,14 +261,7 @@ def scan_dmin(
     del upper
     if not resolution > 0 or lower < floor:
         raise ValueError("need lower >= floor and resolution > 0")
-    evals: list[tuple[float, bool]] = []
-
-    def ev(d):
-        if len(evals) >= max_evaluations:
-            raise ValueError(f"d_min scan exceeded {max_evaluations} evaluations; evaluations so far: {evals}")
-        r = bool(overlaps(float(d)))
-        evals.append((float(d), r))
-        return r
+    ev, evals = _recorded(overlaps, max_evaluations, "scan")
 
     # distances as lower +- k resolution (no drift from repeated addition)
     at = lambda k: float(lower) + k * resolution  # noqa: E731
