@@ -26,7 +26,7 @@ from .executor import execute
 from .graph import Graph, Group, Node, Sweep
 from .pipeline import StudyFileError, load_graph
 from .planner import plan
-from .reasons import Decision, Reason, State
+from .reasons import Reason, State
 from .report import Reporter
 from .results import ResultNotReady, stage_result
 from .runner import Outcome
@@ -34,7 +34,7 @@ from .store import DirectoryStore
 from .task import Task, task
 
 __all__ = [
-    "DirectoryStore", "Decision", "Graph", "Group", "Node", "Outcome", "Reason", "Reporter",
+    "DirectoryStore", "Graph", "Group", "Node", "Outcome", "Reason", "Reporter",
     "ResultNotReady", "State", "StudyFileError", "Sweep", "Task", "TaskContext", "execute",
     "load_graph", "plan", "stage_result", "task",
 ]

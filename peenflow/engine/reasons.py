@@ -8,7 +8,6 @@ and a human-readable detail, and ``peenflow status --why`` prints them.
 from __future__ import annotations
 
 import enum
-from dataclasses import dataclass
 
 
 class Reason(str, enum.Enum):
@@ -33,19 +32,3 @@ class State(str, enum.Enum):
     FAILED = "failed"
     STALE = "stale"
     BLOCKED = "blocked"  # an upstream failed, or a lease held by another run
-
-
-@dataclass(frozen=True)
-class Decision:
-    """The planner's verdict on one point."""
-
-    state: State
-    reason: Reason
-    detail: str = ""
-
-    @property
-    def must_compute(self) -> bool:
-        return self.state in (State.PENDING, State.FAILED)
-
-    def describe(self) -> str:
-        return f"{self.reason.value}" + (f": {self.detail}" if self.detail else "")

@@ -23,6 +23,7 @@ curves is increasing, so it is invertible too.
 
 from __future__ import annotations
 
+import bisect
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -186,24 +187,38 @@ class ControlCurveFamily:
         return tuple(c.angle_deg for c in self.curves)
 
     def at_angle(self, angle_deg: float, method: str = "nearest"):
-        """The curve to use at ``angle_deg``: "nearest" computed angle, or "linear" blend."""
-        angles = np.array(self.angles)
-        exact = np.flatnonzero(angles == angle_deg)
-        if exact.size:
-            return self.curves[exact[0]]
-        if method == "nearest":
-            d = np.abs(angles - angle_deg)
-            best = np.flatnonzero(d == d.min())
-            if best.size > 1:
-                raise ValueError(f"{angle_deg}° is equidistant from {angles[best].tolist()}°; use method='linear'")
-            return self.curves[best[0]]
-        if method == "linear":
-            if not angles[0] < angle_deg < angles[-1]:
-                raise ValueError(
-                    f"{angle_deg}° outside the computed angles [{angles[0]}, {angles[-1]}]°: no extrapolation in angle"
-                )
-            k = int(np.searchsorted(angles, angle_deg))
-            lo, hi = self.curves[k - 1], self.curves[k]
-            w = (angle_deg - lo.angle_deg) / (hi.angle_deg - lo.angle_deg)
-            return AngleBlend(float(angle_deg), lo, hi, float(w))
-        raise ValueError("method must be 'nearest' or 'linear'")
+        """The curve to use at ``angle_deg`` (:func:`control_angles`): the nearest
+        computed angle's curve, or the "linear" blend of the two around it."""
+        chosen = control_angles(self.angles, angle_deg, method)
+        by_angle = dict(zip(self.angles, self.curves))
+        if len(chosen) == 1:
+            return by_angle[chosen[0][0]]
+        (lo, _), (hi, w) = chosen
+        return AngleBlend(float(angle_deg), by_angle[lo], by_angle[hi], float(w))
+
+
+def control_angles(angles, angle_deg: float, method: str = "nearest") -> tuple[tuple[float, float], ...]:
+    """(computed angle in deg, weight) pairs that make the control curve at ``angle_deg``.
+
+    angles : the computed angles, increasing. "nearest": the closest one,
+    weight 1; a tie goes to the larger, more normal angle (the harder-hitting
+    curve, so the velocity read off it is the lower, conservative one).
+    "linear": the two bracketing angles with linear weights, ``(lo, 1 - w),
+    (hi, w)``, ``w = (θ - θ_lo) / (θ_hi - θ_lo)``; an exact hit is one angle,
+    weight 1. ValueError outside the computed range for "linear".
+    """
+    angles = [float(a) for a in angles]
+    if angle_deg in angles:
+        return ((float(angle_deg), 1.0),)
+    if method == "nearest":
+        return ((min(angles, key=lambda a: (abs(a - angle_deg), -a)), 1.0),)
+    if method == "linear":
+        if not angles[0] < angle_deg < angles[-1]:
+            raise ValueError(
+                f"{angle_deg}° outside the computed angles [{angles[0]}, {angles[-1]}]°: no extrapolation in angle"
+            )
+        k = bisect.bisect_left(angles, angle_deg)
+        lo, hi = angles[k - 1], angles[k]
+        w = (angle_deg - lo) / (hi - lo)
+        return ((lo, 1.0 - w), (hi, w))
+    raise ValueError("method must be 'nearest' or 'linear'")

@@ -7,7 +7,6 @@ validated, with library references replaced by the objects themselves
 
 from __future__ import annotations
 
-import bisect
 import hashlib
 from pathlib import Path
 from typing import Optional
@@ -92,29 +91,6 @@ class Study(StudyModel):
     def directory(self) -> Path:
         """The study file's folder (the default store lives beside it)."""
         return self.path.parent
-
-    # --- target <-> control curves ---------------------------------------
-    def control_angles(self) -> tuple[tuple[float, float], ...]:
-        """(almen angle in deg, weight) pairs that give the target's control curve.
-
-        "nearest": the computed angle closest to target.angle_deg (ties go to
-        the larger, more normal angle), weight 1. "interpolate": the two
-        bracketing angles with linear weights (one angle, weight 1, on a hit).
-        Empty when the target gives velocity_m_s directly.
-        """
-        if self.target is None or self.almen is None or self.target.velocity_m_s is not None:
-            return ()
-        angles = self.almen.angles_deg
-        theta = self.target.angle_deg
-        if self.target.control_angle_rule == "nearest":
-            best = min(angles, key=lambda a: (abs(a - theta), -a))
-            return ((best, 1.0),)
-        if theta in angles:
-            return ((theta, 1.0),)
-        i = bisect.bisect_left(angles, theta)
-        lo, hi = angles[i - 1], angles[i]  # validated: theta inside the computed range
-        w_hi = (theta - lo) / (hi - lo)
-        return ((lo, 1.0 - w_hi), (hi, w_hi))
 
     # --- canonical form ----------------------------------------------------
     def to_canonical_dict(self) -> dict:

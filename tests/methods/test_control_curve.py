@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from peenflow.methods.control_curve import AngleBlend, ControlCurve, ControlCurveFamily
+from peenflow.methods.control_curve import AngleBlend, ControlCurve, ControlCurveFamily, control_angles
 
 V = np.array([25.0, 35.0, 45.0, 55.0])  # the paper's velocities (§4)
 
@@ -61,8 +61,8 @@ def test_family_nearest_and_linear_in_angle():
     assert blend.velocity(4.5e-6 * 47.0) == pytest.approx(47.0, rel=1e-10)
     with pytest.raises(ValueError, match="no extrapolation"):
         fam.at_angle(30.0, "linear")
-    with pytest.raises(ValueError, match="equidistant"):
-        ControlCurveFamily((c45, c90)).at_angle(67.5, "nearest")
+    # a tie goes to the larger, more normal angle
+    assert ControlCurveFamily((c45, c90)).at_angle(67.5, "nearest") is c90
 
 
 def test_bad_data_rejected():
@@ -70,3 +70,14 @@ def test_bad_data_rejected():
         ControlCurve(90.0, [25, 25, 35], [1, 2, 3])
     with pytest.raises(ValueError):
         ControlCurve(90.0, [25], [1e-4])
+
+
+def test_control_angles_nearest_and_linear():
+    angles = (45.0, 67.5, 90.0)
+    assert control_angles(angles, 60.0) == ((67.5, 1.0),)
+    assert control_angles(angles, 56.25) == ((67.5, 1.0),)  # tie -> larger angle
+    (a0, w0), (a1, w1) = control_angles(angles, 50.625, "linear")
+    assert (a0, a1) == (45.0, 67.5) and w0 == pytest.approx(0.75) and w1 == pytest.approx(0.25)
+    assert control_angles(angles, 90.0, "linear") == ((90.0, 1.0),)
+    with pytest.raises(ValueError, match="outside the computed angles"):
+        control_angles(angles, 30.0, "linear")

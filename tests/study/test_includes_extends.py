@@ -129,8 +129,6 @@ def test_stages_follow_sections(write_study, tmp_path):
     assert "target_rev_thickness" not in full  # only with rev_thickness_mm = "auto"
     no_target = stages(write_study({"target": DELETE}))
     assert no_target[-1] == "control_curve" and not any(s.startswith("target") for s in no_target)
-    s = load_study(write_study({"target": DELETE}))
-    assert s.control_angles() == ()
     paper_rev = stages(write_study({"target": DELETE, "almen.rev_rule": "paper"}))
     assert "strip_dmin" not in paper_rev and "strip_impact" not in paper_rev
     s = load_study(write_study({"target": DELETE, "almen.rev_rule": "paper"}))
@@ -141,18 +139,6 @@ def test_stages_follow_sections(write_study, tmp_path):
     assert "coverage_curve" in target_only and "target_dmin" not in target_only
     assert not any(x.startswith("strip") for x in target_only) and "control_curve" not in target_only
     assert load_study(given).target.measure_side_m() == pytest.approx(1.5e-3)
-
-
-def test_control_angles_nearest_and_interpolate(write_study):
-    s = load_study(write_study({"target.angle_deg": 60.0}))
-    assert s.control_angles() == ((67.5, 1.0),)
-    s = load_study(write_study({"target.angle_deg": 56.25}))  # tie -> larger angle
-    assert s.control_angles() == ((67.5, 1.0),)
-    s = load_study(write_study({"target.angle_deg": 50.625, "target.control_angle_rule": "interpolate"}))
-    (a0, w0), (a1, w1) = s.control_angles()
-    assert (a0, a1) == (45.0, 67.5) and w0 == pytest.approx(0.75) and w1 == pytest.approx(0.25)
-    s = load_study(write_study({"target.angle_deg": 90.0, "target.control_angle_rule": "interpolate"}))
-    assert s.control_angles() == ((90.0, 1.0),)
 
 
 def test_models_are_frozen(write_study):
