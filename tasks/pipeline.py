@@ -25,6 +25,7 @@ from pathlib import Path
 from peenflow.engine import Graph
 from peenflow.study import load_study
 
+from ._common import SWEEP_COORDS
 from .arc_height import arc_height
 from .control_curve import control_curve
 from .coverage_curve import coverage_curve
@@ -77,6 +78,7 @@ def read_measured_profile(path: Path) -> dict:
 def build_graph(path) -> Graph:
     study = load_study(path)
     g = Graph(study.name)
+    g.coord_attrs = dict(SWEEP_COORDS)
     D = study.shot.diameter_m
     shot = {"radius_m": study.shot.radius_m, "density_kg_m3": study.shot.density_kg_m3,
             "friction": study.shot.friction_coefficient}

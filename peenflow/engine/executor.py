@@ -54,6 +54,7 @@ def point_specs(graph: Graph, nodes: list[Node], store: DirectoryStore, forced: 
             params=node.params, upstream=refs, store_root=str(store.root), study=graph.name,
             forced=node.node_id in forced,
             threads=threads[node.stage] if isinstance(threads, dict) else threads,
+            sweep_attrs={d: dict(graph.coord_attrs.get(d, {})) for d in node.coords},
         )
         out[node.node_id] = (spec, [u.node_id for u in ups])
     return out

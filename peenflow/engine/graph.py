@@ -97,6 +97,8 @@ class Graph:
         self.reports: list = []
         #: execution defaults a study may set (``workers``, ``threads``); command-line flags win
         self.execution: dict = {}
+        #: attributes of sweep coordinates in stored results, ``{dim: {"units": ..., "long_name": ...}}``
+        self.coord_attrs: dict = {}
 
     # -- building -----------------------------------------------------------
     def _register_stage(self, task: Task, stage: str | None) -> str:

@@ -22,15 +22,6 @@ def peenflow_cli(*args, check=True):
     return proc
 
 
-@pytest.fixture(scope="module")
-def micro(tmp_path_factory):
-    d = tmp_path_factory.mktemp("micro")
-    shutil.copy(HERE / "micro.toml", d / "micro.toml")
-    study = d / "micro.toml"
-    peenflow_cli("run", study, "--workers", "2")
-    return study
-
-
 def test_strip_arc_height_grows_with_shots_and_velocity(micro):
     arc = peenflow.open_result(micro, "arc_height").arc_height_mm.isel(angle_deg=0, sequence=0)
     for v in arc.velocity_m_s.values:
