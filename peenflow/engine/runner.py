@@ -22,6 +22,7 @@ from datetime import datetime, timezone
 import xarray as xr
 
 from .. import __version__
+from .blas import pin_blas_threads
 from .canonical import canonical_json
 from .combine import combine_points
 from .context import TaskContext
@@ -225,6 +226,7 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
         ctx.clear_checkpoint()
     started = time.time()
     try:
+        blas_threads = pin_blas_threads()  # same on a dask worker as here: bit-identical results
         kwargs = dict(spec.params)
         kwargs.update(_load_upstream(store, spec, ups))
         if task.wants_ctx:
@@ -260,6 +262,7 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
             "peenflow_pid": os.getpid(),
             "peenflow_resumed": int(ctx.resumed),
             "peenflow_threads": ctx.granted or 0,
+            "peenflow_blas_threads": blas_threads,
         })
         manifest = store.write_result(task.name, key, result, parts.to_dict(), source_hash,
                                       replace=spec.forced)
