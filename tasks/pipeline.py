@@ -10,7 +10,7 @@
     target_impact -> target_dmin -> target_rev                       (no target.rev_size_mm)
     target_indentation + target_rev -> coverage_curve
     target_rev + target_velocity + coverage_curve -> target_runs[sequence] -> residual_profile
-    after a run: plots of whatever is done (PNG, beside the study)
+    after a run: plots of whatever is done (PNG, in the store: report_dir)
 
 Each task receives only the parameters it uses, so editing one section of a
 study recomputes only the stages that depend on it, and two studies that
@@ -179,6 +179,23 @@ def build_graph(path) -> Graph:
     ex = study.execution
     g.execution = {k: v for k, v in (("workers", ex.workers), ("threads", ex.threads_per_worker))
                    if isinstance(v, int)}
-    out_dir = Path(study.path).parent / f"{study.name}_plots"
-    g.reports.append(lambda graph, store: write_plots(graph, store, out_dir))
+    about = {"shot": study.shot.name,
+             "strip": study.almen.strip.name if study.almen is not None else None,
+             "target_material": study.target.material.name if study.target is not None else None,
+             "coverage_percent": study.target.coverage_percent if study.target is not None else None}
+    path = Path(study.path)
+    g.reports.append(lambda graph, store: write_plots(graph, store, report_dir(store, path), about))
     return g
+
+
+def report_dir(store, study_path: Path) -> Path:
+    """Where a study's plots (and report) go: in its store, one folder per study file.
+
+    ``<store>/reports/<file stem>-<8 hex of the file's absolute path>``: never a
+    tracked folder, and neither a copy of the study elsewhere nor another study
+    run into the same ``--store`` overwrites them.
+    """
+    from peenflow.engine.canonical import digest
+
+    resolved = Path(study_path).resolve()
+    return Path(store.root) / "reports" / f"{resolved.stem}-{digest(str(resolved), 8)}"

@@ -7,6 +7,7 @@
     peenflow check STUDY
     peenflow clean STUDY [--dry-run]
     peenflow unlock STUDY [KEY ... | --all]
+    peenflow --version
 """
 
 from __future__ import annotations
@@ -20,7 +21,10 @@ VERBS = [run, status, rerun, show, check, clean, unlock]
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from .. import __version__
+
     parser = argparse.ArgumentParser(prog="peenflow", description=__doc__.split("\n")[0])
+    parser.add_argument("--version", action="version", version=f"peenflow {__version__}")
     sub = parser.add_subparsers(dest="verb", required=True, metavar="VERB")
     for verb in VERBS:
         p = sub.add_parser(verb.NAME, help=verb.HELP, description=verb.__doc__)

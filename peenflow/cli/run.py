@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..engine import Reporter, execute
-from ._common import add_study, load, stage_nodes
+from ..engine import Reporter, SchedulerUnreachable, execute
+from ._common import UserError, add_study, load, stage_nodes
 from .status import print_plan
 
 NAME = "run"
@@ -46,8 +46,11 @@ def execute_and_report(args, graph, store, nodes, forced=frozenset()) -> int:
     reporter.line(f"study {graph.name}: {len(nodes)} points, store {store.root}")
     workers = args.workers or graph.execution.get("workers")
     threads = args.threads or graph.execution.get("threads")
-    outcomes = execute(graph, store, nodes, forced=set(forced), scheduler=args.scheduler,
-                       workers=workers, threads=threads, reporter=reporter)
+    try:
+        outcomes = execute(graph, store, nodes, forced=set(forced), scheduler=args.scheduler,
+                           workers=workers, threads=threads, reporter=reporter)
+    except SchedulerUnreachable as exc:
+        raise UserError(str(exc)) from None
     reporter.line("")
     reporter.line(reporter.summary())
     for report in graph.reports:

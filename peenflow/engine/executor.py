@@ -28,6 +28,13 @@ from .report import Reporter
 from .runner import Outcome, PointSpec, UpstreamRef, run_node
 from .store import DirectoryStore
 
+#: seconds to wait for a dask scheduler to answer (``$PEENFLOW_SCHEDULER_TIMEOUT_S``)
+SCHEDULER_TIMEOUT_S = float(os.environ.get("PEENFLOW_SCHEDULER_TIMEOUT_S", "30"))
+
+
+class SchedulerUnreachable(ConnectionError):
+    """The dask scheduler given by ``--scheduler`` did not answer."""
+
 
 def available_cores() -> int:
     try:
@@ -134,7 +141,14 @@ def _run_local(dsk, keys, workers, reporter) -> list[Outcome]:
 def _run_distributed(dsk, keys, address, reporter) -> list[Outcome]:
     from distributed import Client, as_completed
 
-    with Client(address, timeout="30s") as client:
+    try:
+        client = Client(address, timeout=f"{SCHEDULER_TIMEOUT_S:g}s")
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise SchedulerUnreachable(
+            f"cannot reach the dask scheduler at {address} within {SCHEDULER_TIMEOUT_S:g} s "
+            f"({type(exc).__name__}): check that `dask scheduler` runs there, that the address and port are "
+            "right (tcp://HOST:PORT, default port 8786) and that no firewall blocks it") from None
+    with client:
         futures = client.get(dsk, keys, sync=False)
         by_future = dict(zip(futures, keys))
         results = {}
