@@ -28,6 +28,7 @@ from peenflow.study import load_study
 from ._common import SWEEP_COORDS
 from .arc_height import arc_height
 from .control_curve import control_curve
+from .headline import headline_numbers
 from .coverage_curve import coverage_curve
 from .indentation import indentation
 from .plots import write_plots
@@ -184,6 +185,7 @@ def build_graph(path) -> Graph:
              "target_material": study.target.material.name if study.target is not None else None,
              "coverage_percent": study.target.coverage_percent if study.target is not None else None}
     path = Path(study.path)
+    g.headline = headline_numbers
     g.reports.append(lambda graph, store: write_plots(graph, store, report_dir(store, path), about))
     return g
 

@@ -1,0 +1,57 @@
+"""What a run ends with (headline numbers) and what `peenflow show` prints, on the micro study."""
+
+import re
+import subprocess
+import sys
+
+import numpy as np
+
+import peenflow
+import peenflow.api
+
+
+def cli(*args):
+    return subprocess.run([sys.executable, "-m", "peenflow.cli", *map(str, args)], capture_output=True, text=True,
+                          timeout=300)
+
+
+def _row(text: str, quantity: str) -> str:
+    m = re.search(rf"^  {re.escape(quantity)}\s+(.+?)\s\s", text, re.M)
+    assert m, f"no headline row {quantity!r} in:\n{text}"
+    return m.group(1).strip()
+
+
+def test_a_run_ends_with_the_studys_headline_numbers(micro):
+    out = micro.with_name("run.log").read_text()
+    assert "headline numbers:" in out
+    head = out.split("headline numbers:")[1]
+    cov = peenflow.open_result(micro, "coverage_curve")
+    assert _row(head, "N_f (98 % coverage)") == f"{float(cov.full_coverage_shots):.0f} shots"
+    prof = peenflow.open_result(micro, "residual_profile")
+    assert _row(head, "surface sigma_xx") == f"{float(prof.stress_xx_mean_MPa[0]):.0f} MPa"
+    k = int(np.argmin(prof.stress_xx_mean_MPa.values))
+    assert _row(head, "peak sigma_xx") == f"{float(prof.stress_xx_mean_MPa[k]):.0f} MPa"
+    assert _row(head, "shot velocity") == "45.0 m/s"  # micro gives the target velocity
+    ctrl = peenflow.open_result(micro, "control_curve")
+    assert _row(head, "Almen intensity, 90 deg, 55 m/s") == f"{float(ctrl.intensity_mm.sel(angle_deg=90.0, velocity_m_s=55.0)):.3f} mm"
+    dent = peenflow.open_result(micro, "target_indentation")
+    assert f"{float(dent.dent_semi_axis_along_m) * 1e3:.3f}" in _row(head, "target dent")
+
+
+def test_show_prints_full_values_and_takes_every_stage_and_task_name(micro):
+    graph = peenflow.api.load_study_graph(micro)
+    for stage in graph.stages:
+        proc = cli("show", micro, stage)
+        assert proc.returncode == 0, (stage, proc.stderr)
+        assert proc.stdout.startswith(f"stage {stage}\n") and "files:" in proc.stdout
+    ctrl = peenflow.open_result(micro, "control_curve")
+    out = cli("show", micro, "control_curve").stdout
+    for v in ctrl.intensity_mm.values.ravel():
+        assert repr(float(v)) in out  # every digit, not "0.3601 ..."
+    assert "[mm]  Almen intensity" in out
+    # a task name a single stage runs stands for that stage; an ambiguous one is refused by name
+    assert cli("show", micro, "single_impact").stdout.startswith("stage target_impact\n")
+    proc = cli("show", micro, "rev_size")
+    assert proc.returncode == 2 and "strip_rev" in proc.stderr and "target_rev" in proc.stderr
+    proc = cli("show", micro, "no_such_stage")
+    assert proc.returncode == 2 and "residual_profile" in proc.stderr  # lists the stages
