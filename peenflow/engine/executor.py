@@ -81,6 +81,7 @@ class _ProgressMonitor(threading.Thread):
         while not self.stop.wait(self.every_s):
             if not base.exists():
                 continue
+            moved = False
             for p in sorted(base.glob("*.json")):
                 rec = self.store.progress(p.stem)
                 if not rec or rec.get("study") != self.study:
@@ -89,11 +90,14 @@ class _ProgressMonitor(threading.Thread):
                 if self._seen.get(p.stem) != stamp:
                     self._seen[p.stem] = stamp
                     self.reporter.progress(rec.get("point", p.stem), rec)
+                    moved = True
+            if moved:
+                self.reporter.tick()
 
 
 def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: set[str] = frozenset(),
             scheduler: str | None = None, workers: int | None = None, threads: int | None = None,
-            reporter: Reporter | None = None, progress_every_s: float = 10.0) -> list[Outcome]:
+            reporter: Reporter | None = None, progress_every_s: float | None = None) -> list[Outcome]:
     """Run ``nodes`` (an ancestor-closed subset of ``graph``, in graph order)."""
     reporter = reporter or Reporter()
     Path(store.root).mkdir(parents=True, exist_ok=True)
@@ -110,7 +114,8 @@ def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: s
     specs = point_specs(graph, nodes, store, set(forced), threads)
     dsk = {nid: (run_node, spec, ups) for nid, (spec, ups) in specs.items()}
     keys = list(dsk)
-    monitor = _ProgressMonitor(store, graph.name, reporter, progress_every_s)
+    every = progress_every_s or float(os.environ.get("PEENFLOW_PROGRESS_EVERY_S", 0)) or reporter.poll_s
+    monitor = _ProgressMonitor(store, graph.name, reporter, every)
     monitor.start()
     try:
         if scheduler is None:
@@ -123,6 +128,7 @@ def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: s
             outcomes = _run_distributed(dsk, keys, scheduler, reporter)
     finally:
         monitor.stop.set()
+        reporter.finish()
     return outcomes
 
 
