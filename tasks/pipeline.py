@@ -10,7 +10,7 @@
     target_impact -> target_dmin -> target_rev                       (no target.rev_size_mm)
     target_indentation + target_rev -> coverage_curve
     target_rev + target_velocity + coverage_curve -> target_runs[sequence] -> residual_profile
-    after a run: plots of whatever is done (PNG, in the store: report_dir)
+    after a run: plots of whatever is done (PNG) and report.html, in the store (report_dir)
 
 Each task receives only the parameters it uses, so editing one section of a
 study recomputes only the stages that depend on it, and two studies that
@@ -32,6 +32,7 @@ from .headline import headline_numbers
 from .coverage_curve import coverage_curve
 from .indentation import indentation
 from .plots import write_plots
+from .report import write_report
 from .residual_profile import residual_profile
 from .rev_size import rev_size
 from .rev_thickness import rev_thickness
@@ -186,7 +187,13 @@ def build_graph(path) -> Graph:
              "coverage_percent": study.target.coverage_percent if study.target is not None else None}
     path = Path(study.path)
     g.headline = headline_numbers
-    g.reports.append(lambda graph, store: write_plots(graph, store, report_dir(store, path), about))
+
+    def plots_and_report(graph, store):
+        out = report_dir(store, path)
+        written = write_plots(graph, store, out, about)
+        return written + [write_report(graph, store, out, path, written)]
+
+    g.reports.append(plots_and_report)
     return g
 
 

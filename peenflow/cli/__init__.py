@@ -4,6 +4,7 @@
     peenflow status STUDY [--why]
     peenflow rerun STUDY STAGE
     peenflow show STUDY STAGE
+    peenflow report STUDY
     peenflow check STUDY
     peenflow clean STUDY [--dry-run]
     peenflow unlock STUDY [KEY ... | --all]
@@ -15,9 +16,9 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import check, clean, rerun, run, show, status, unlock
+from . import check, clean, report, rerun, run, show, status, unlock
 
-VERBS = [run, status, rerun, show, check, clean, unlock]
+VERBS = [run, status, rerun, show, report, check, clean, unlock]
 
 
 def build_parser() -> argparse.ArgumentParser:
