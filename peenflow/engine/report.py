@@ -68,6 +68,7 @@ class Reporter:
         self._finished: dict[str, int] = defaultdict(int)
         self._total = 0
         self._point_start: dict[str, tuple[float, float]] = {}  # point -> (time, done) first seen
+        self._point_eta: dict[str, tuple[float, float]] = {}  # running point -> (its ETA s, when)
         self._bars = None  # rich Progress while live
         self._bar_ids: dict[str, int] = {}
         self._overall = None
@@ -118,6 +119,7 @@ class Reporter:
         with self._lock:
             self.outcomes.append(o)
             self._finished[o.stage] += 1
+            self._point_eta.pop(o.node_id, None)
             if self._bars is not None:
                 self._bars.advance(self._overall)
                 bar = self._bar_ids.pop(o.node_id, None)
@@ -135,12 +137,20 @@ class Reporter:
             self.line(f"      error: {o.error.strip().splitlines()[-1]}")
 
     def overall(self) -> str:
-        """``points 7/15 done, 1m02s elapsed, ETA 1m30s``."""
+        """``points 7/15 done, 1m02s elapsed, ETA 1m30s``.
+
+        The ETA is the rate of computed points so far (reused ones cost
+        nothing), but never less than the longest ETA of a running point: one
+        long point (a REV run) outlasts any number of quick ones.
+        """
         done = len(self.outcomes)
-        elapsed = time.time() - self.started
+        now = time.time()
+        elapsed = now - self.started
         computed = [o for o in self.outcomes if o.status == "computed"]
-        # reused points cost nothing: the rate is that of computed points
         left = eta(len(computed), len(computed) + self._total - done, elapsed) if done < self._total else 0.0
+        running = [e - (now - t) for e, t in self._point_eta.values()]
+        if running and done < self._total:
+            left = max(left or 0.0, max(running))
         return f"points {done}/{self._total} done, {duration(elapsed)} elapsed, ETA {duration(left)}"
 
     def progress(self, point: str, rec: dict) -> None:
@@ -157,6 +167,8 @@ class Reporter:
         left = eta(done - base, (total - base) if total else None, now - start)
         unit = rec.get("unit") or ""
         with self._lock:
+            if left is not None:
+                self._point_eta[point] = (left, time.time())
             if self._bars is not None:
                 bar = self._bar_ids.get(point)
                 if bar is None:

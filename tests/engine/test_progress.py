@@ -38,3 +38,17 @@ def test_a_terminal_gets_live_bars_and_the_finished_points_above_them():
     text = stream.getvalue()
     assert "+ computed" in text and "points" in text and "\x1b[" in text
 
+
+
+def test_the_runs_eta_is_never_shorter_than_a_running_points():
+    import time
+
+    r = Reporter(stream=io.StringIO(), live=False)
+    r.expect([SimpleNamespace(stage="quick")] * 3 + [SimpleNamespace(stage="rev")])
+    for k in range(3):  # three quick points done: their rate alone says the last one is almost done
+        r.outcome(Outcome(f"quick{k}", "quick", "", {}, "t", "k", "computed", "missing", wall_s=0.1))
+    now = time.time()
+    # the REV point did 100 of 1000 shots in 20 s: 180 s left
+    r.progress("rev", {"done": 100, "total": 1000, "unit": "shots", "time": now, "started": now - 20, "base": 0})
+    m = re.search(r"points 3/4 done, \S+ elapsed, ETA (\d+)m(\d+)s", r.overall())
+    assert m and 170 <= 60 * int(m.group(1)) + int(m.group(2)) <= 180, r.overall()
