@@ -23,15 +23,34 @@ def _pm(mean: float, std: float, unit: str, digits: int = 3) -> str:
     return f"{mean:.{digits}f} {unit}"
 
 
-def _first_tensile_depth(z: np.ndarray, s: np.ndarray) -> float | None:
-    """Depth where a compressive-at-the-surface profile first crosses zero (linear between layers)."""
-    if s[0] >= 0:
-        return None
-    k = np.nonzero(s > 0)[0]
-    if not k.size:
+#: a profile that never turns tensile (a REV held at its bottom) is compressive down to
+#: where it rises above this fraction of its peak
+VANISHING_FRACTION = 0.05
+
+
+def _crossing(z: np.ndarray, s: np.ndarray, level: float) -> float | None:
+    """First depth where ``s`` rises above ``level`` (linear between layers); None if it never does."""
+    k = np.nonzero(s > level)[0]
+    if not k.size or k[0] == 0:
         return None
     i = int(k[0])
-    return float(z[i - 1] + (z[i] - z[i - 1]) * (0 - s[i - 1]) / (s[i] - s[i - 1]))
+    return float(z[i - 1] + (z[i] - z[i - 1]) * (level - s[i - 1]) / (s[i] - s[i - 1]))
+
+
+def compressive_depth(z: np.ndarray, s: np.ndarray) -> tuple[float | None, str]:
+    """(depth, how) of the compressive layer of a profile compressive at the surface.
+
+    The first zero crossing; without one (a held REV has no balancing tension),
+    where ``s`` rises above ``VANISHING_FRACTION`` of its peak compression.
+    """
+    if s[0] >= 0:
+        return None, "not compressive at the surface"
+    zero = _crossing(z, s, 0.0)
+    if zero is not None:
+        return zero, "first zero crossing of the mean"
+    level = VANISHING_FRACTION * float(np.min(s))
+    return _crossing(z, s, level), (f"no tension in the held REV: where the mean rises above "
+                                    f"{VANISHING_FRACTION:.0%} of its peak")
 
 
 def _one(ds, name) -> float:
@@ -103,8 +122,7 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
             rows.append((f"surface sigma_{c}", _pm(m[0], s[0], "MPa", 0), f"top layer, {z[0] * 1e3:.3f} mm; {spread}"))
             k = int(np.nanargmin(m))
             rows.append((f"peak sigma_{c}", _pm(m[k], s[k], "MPa", 0), f"at {z[k] * 1e3:.3f} mm depth"))
-        zc = _first_tensile_depth(z, prof.stress_xx_mean_MPa.values)
-        rows.append(("compressive depth (sigma_xx)", f"{zc * 1e3:.3f} mm" if zc is not None else "n/a",
-                     "first zero crossing of the mean" if zc is not None else "no zero crossing in the REV"))
+        zc, how = compressive_depth(z, prof.stress_xx_mean_MPa.values)
+        rows.append(("compressive depth (sigma_xx)", f"{zc * 1e3:.3f} mm" if zc is not None else "n/a", how))
     return rows
 

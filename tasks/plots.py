@@ -169,10 +169,11 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
                     textcoords="offset points", fontsize=8)
         ax.annotate(f"surface {mean[0]:.0f} MPa", (z[0], mean[0]), xytext=(10, 12), textcoords="offset points",
                     fontsize=8)
-        tensile = np.nonzero(mean > 0)[0]
-        if tensile.size:
-            ax.axvline(z[tensile[0]], ls=":", color="0.5", lw=0.8,
-                       label=f"compressive to {z[tensile[0]]:.3f} mm")
+        from .headline import compressive_depth  # (headline imports this module)
+
+        zc, _ = compressive_depth(z, mean)
+        if zc is not None:
+            ax.axvline(zc, ls=":", color="0.5", lw=0.8, label=f"compressive to {zc:.3f} mm")
         ax.axhline(0, color="k", lw=0.5)
         tv = _result(graph, store, "target_velocity")
         what = [about.get("target_material", ""), shot]

@@ -55,3 +55,14 @@ def test_show_prints_full_values_and_takes_every_stage_and_task_name(micro):
     assert proc.returncode == 2 and "strip_rev" in proc.stderr and "target_rev" in proc.stderr
     proc = cli("show", micro, "no_such_stage")
     assert proc.returncode == 2 and "residual_profile" in proc.stderr  # lists the stages
+
+
+def test_compressive_depth_is_the_zero_crossing_or_where_a_held_profile_fades():
+    from tasks.headline import compressive_depth
+
+    z = np.array([0.1, 0.2, 0.3, 0.4])
+    depth, how = compressive_depth(z, np.array([-400.0, -200.0, 200.0, 50.0]))
+    assert depth == 0.25 and "zero crossing" in how  # halfway between -200 and +200
+    # never tensile: where it rises above 5 % of the -400 peak, i.e. -20, between -100 and -10
+    depth, how = compressive_depth(z, np.array([-300.0, -400.0, -100.0, -10.0]))
+    assert abs(depth - (0.3 + 0.1 * 80.0 / 90.0)) < 1e-12 and "held REV" in how
