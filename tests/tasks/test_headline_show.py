@@ -1,8 +1,6 @@
 """What a run ends with (headline numbers) and what `peenflow show` prints, on the micro study."""
 
 import re
-import subprocess
-import sys
 
 import numpy as np
 
@@ -10,9 +8,16 @@ import peenflow
 import peenflow.api
 
 
-def cli(*args):
-    return subprocess.run([sys.executable, "-m", "peenflow.cli", *map(str, args)], capture_output=True, text=True,
-                          timeout=300)
+def cli(*args, capsys):
+    """The command in this process (a subprocess per stage would cost seconds each)."""
+    from types import SimpleNamespace
+
+    from peenflow.cli import main
+
+    capsys.readouterr()
+    rc = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return SimpleNamespace(returncode=rc, stdout=out, stderr=err)
 
 
 def _row(text: str, quantity: str) -> str:
@@ -38,22 +43,22 @@ def test_a_run_ends_with_the_studys_headline_numbers(micro):
     assert f"{float(dent.dent_semi_axis_along_m) * 1e3:.3f}" in _row(head, "target dent")
 
 
-def test_show_prints_full_values_and_takes_every_stage_and_task_name(micro):
+def test_show_prints_full_values_and_takes_every_stage_and_task_name(micro, capsys):
     graph = peenflow.api.load_study_graph(micro)
     for stage in graph.stages:
-        proc = cli("show", micro, stage)
+        proc = cli("show", micro, stage, capsys=capsys)
         assert proc.returncode == 0, (stage, proc.stderr)
         assert proc.stdout.startswith(f"stage {stage}\n") and "files:" in proc.stdout
     ctrl = peenflow.open_result(micro, "control_curve")
-    out = cli("show", micro, "control_curve").stdout
+    out = cli("show", micro, "control_curve", capsys=capsys).stdout
     for v in ctrl.intensity_mm.values.ravel():
         assert repr(float(v)) in out  # every digit, not "0.3601 ..."
     assert "[mm]  Almen intensity" in out
     # a task name a single stage runs stands for that stage; an ambiguous one is refused by name
-    assert cli("show", micro, "single_impact").stdout.startswith("stage target_impact\n")
-    proc = cli("show", micro, "rev_size")
+    assert cli("show", micro, "single_impact", capsys=capsys).stdout.startswith("stage target_impact\n")
+    proc = cli("show", micro, "rev_size", capsys=capsys)
     assert proc.returncode == 2 and "strip_rev" in proc.stderr and "target_rev" in proc.stderr
-    proc = cli("show", micro, "no_such_stage")
+    proc = cli("show", micro, "no_such_stage", capsys=capsys)
     assert proc.returncode == 2 and "residual_profile" in proc.stderr  # lists the stages
 
 
