@@ -130,17 +130,21 @@ def test_killed_study_resumes_mid_stage_to_the_identical_result(micro, tmp_path)
                                  "--threads", "1"], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                 start_new_session=True)
         t0 = time.time()
+
+        def unfinished_checkpoints():
+            # a finished point's result lands just before its checkpoint is
+            # dropped: wait for a checkpoint whose point has no result yet
+            return [c for c in store.glob("checkpoints/*/checkpoint.nc")
+                    if not list(store.glob(f"results/*/{c.parent.name}.nc"))]
+
         try:
-            while not (list(store.glob("checkpoints/*/checkpoint.nc"))
-                       and list(store.glob("results/strip_runs/*.nc"))):
+            while not (unfinished_checkpoints() and list(store.glob("results/strip_runs/*.nc"))):
                 assert time.time() - t0 < 300 and proc.poll() is None, "run ended before it could be killed"
                 time.sleep(0.01)
         finally:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
-        unfinished = [c for c in store.glob("checkpoints/*/checkpoint.nc")
-                      if not list(store.glob(f"results/*/{c.parent.name}.nc"))]
-        if unfinished:
+        if unfinished_checkpoints():
             break
     else:
         raise AssertionError("no kill landed mid-point in 5 attempts")
