@@ -12,8 +12,8 @@ Layers (one folder each):
 __version__ = "0.1.0"
 
 
-def open_result(study_path, stage, store=None, allow_partial=False):
-    """A stage's results as one xarray Dataset; see :mod:`peenflow.api`."""
+def open_result(study_path, stage, store=None, allow_partial=False, lazy=True):
+    """A stage's results as one xarray Dataset (dask-backed unless ``lazy=False``); see :mod:`peenflow.api`."""
     from .api import open_result as _open
 
-    return _open(study_path, stage, store=store, allow_partial=allow_partial)
+    return _open(study_path, stage, store=store, allow_partial=allow_partial, lazy=lazy)

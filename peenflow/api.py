@@ -38,7 +38,12 @@ def open_store(study_path, store: str | os.PathLike | None = None) -> DirectoryS
 
 
 def open_result(study_path: str | os.PathLike, stage: str, store: str | os.PathLike | None = None,
-                allow_partial: bool = False) -> xr.Dataset:
-    """A stage's results as one Dataset (a swept stage combined along its sweep dims)."""
+                allow_partial: bool = False, lazy: bool = True) -> xr.Dataset:
+    """A stage's results as one Dataset (a swept stage combined along its sweep dims).
+
+    Lazy by default: the values are dask arrays, read from the files when
+    computed (``.load()`` reads them all).  Provenance attributes are kept
+    (``peenflow_*``; a combined stage lists each point's in ``peenflow_points``).
+    """
     graph = load_study_graph(study_path)
-    return stage_result(graph, open_store(study_path, store), stage, allow_partial=allow_partial)
+    return stage_result(graph, open_store(study_path, store), stage, allow_partial=allow_partial, lazy=lazy)

@@ -23,7 +23,7 @@ import xarray as xr
 from peenflow.methods import average_over_region, shot_stream
 
 from . import _kernel as K
-from ._common import var
+from ._common import COMPONENT_LONG_NAME, depth, labels, var
 
 CHECKPOINT_EVERY_S = float(os.environ.get("PEENFLOW_CHECKPOINT_EVERY_S", "30"))
 
@@ -101,18 +101,22 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
             "stress_spread_Pa": var(spread, ("shots", "layer", "component"), "Pa", "lateral std over the region"),
             "stress_xx_Pa": var(mean[:, :, 0], ("shots", "layer"), "Pa", "sigma_xx profile"),
             "stress_yy_Pa": var(mean[:, :, 1], ("shots", "layer"), "Pa", "sigma_yy profile"),
-            "plastic_strain_mean": var(np.array([plastic[n] for n in ladder]), ("shots", "layer"), ""),
-            "z_edge_m": var(z_edges, ("z_edge",), "m", "layer boundaries below the peened surface"),
-            "depth_m": var(0.5 * (z_edges[1:] + z_edges[:-1]), ("layer",), "m", "layer mid-depth"),
-            "restitution": var(records["restitution"], ("impact",), "", "per impact, in arrival order"),
-            "peak_force_N": var(records["peak_force"], ("impact",), "N"),
-            "energy_error": var(records["energy_error"], ("impact",), "", "energy balance error / impact energy"),
-            "hourglass_peak": var(records["hourglass_peak"], ("impact",), "",
+            "plastic_strain_mean": var(np.array([plastic[n] for n in ladder]), ("shots", "layer"), "1",
+                                       "equivalent plastic strain averaged over the measuring region"),
+            "restitution": var(records["restitution"], ("impact",), "1",
+                               "coefficient of restitution per impact, in arrival order"),
+            "peak_force_N": var(records["peak_force"], ("impact",), "N", "peak contact force per impact"),
+            "energy_error": var(records["energy_error"], ("impact",), "1", "energy balance error / impact energy"),
+            "hourglass_peak": var(records["hourglass_peak"], ("impact",), "1",
                                   "peak hourglass energy of the impact / impact energy (large on a mesh too "
                                   "coarse for the dent: BENCHMARKS.md 4b)"),
-            "hit_fraction": var(float(hit.mean()) if hit.size else 0.0, (), "", "shots that touched the REV"),
+            "hit_fraction": var(float(hit.mean()) if hit.size else 0.0, (), "1", "fraction of shots that touched the REV"),
         },
-        coords={"shots": np.array(ladder), "component": list(K.VOIGT)},
+        coords={"shots": var(np.array(ladder), ("shots",), "1", "number of shots N (rung of the ladder)"),
+                "component": labels(K.VOIGT, "component", COMPONENT_LONG_NAME),
+                "z_edge_m": depth(z_edges, "z_edge", "layer boundary depth below the peened surface"),
+                "depth_m": depth(0.5 * (z_edges[1:] + z_edges[:-1]), "layer", "layer mid-depth below the peened surface"),
+                "impact": var(np.arange(records["restitution"].size), ("impact",), "1", "impact number in arrival order")},
         attrs={"rev_side_m": side_m, "measure_side_m": measure_side_m, "thickness_m": thickness_m,
                "n_elements": int(mesh.n_elements), "seed": int(seed)},
     )

@@ -45,6 +45,7 @@ def arc_height(runs: xr.Dataset, *, strip_width_m: float, strip_thickness_m: flo
             "clamp_force_N": var(force, dims, "N", "F_x held by the fixture (eq. 6)"),
             "clamp_moment_Nm": var(moment, dims, "N m", "M_y about the strip mid-plane (eq. 7)"),
         },
-        coords={"sequence": runs.sequence.values, "shots": runs.shots.values},
+        coords={"sequence": var(runs.sequence.values, ("sequence",), "1", "random shot sequence number"),
+                "shots": var(runs.shots.values, ("shots",), "1", "number of shots N")},
         attrs={"strip_thickness_m": strip_thickness_m, "gauge_span_m": gauge_span_m},
     )

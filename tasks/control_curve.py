@@ -7,7 +7,7 @@ import xarray as xr
 
 from peenflow.methods import ControlCurve
 
-from ._common import MM, peening_task, var
+from ._common import MM, SWEEP_COORDS, peening_task, var
 
 
 @peening_task(version="2")
@@ -38,14 +38,19 @@ def control_curve(sat: xr.Dataset, *, interpolation: str = "pchip") -> xr.Datase
                                     ("angle_deg", "velocity_m_s"), "mm", "spread over sequences"),
             "curve_intensity_mm": var(curves, ("angle_deg", "velocity_fine_m_s"), "mm",
                                       f"{interpolation} interpolant of the control curve"),
-            "monotone_increasing": var(increasing, ("angle_deg",), "", "1 if intensity rises with velocity"),
+            "monotone_increasing": var(increasing, ("angle_deg",), "1", "1 if intensity rises with velocity",
+                                       flag_values=np.array([0, 1]), flag_meanings="not_increasing increasing"),
             "intensity_extrapolated": var(
                 sat.intensity_extrapolated.transpose("angle_deg", "velocity_m_s").values.astype(int),
-                ("angle_deg", "velocity_m_s"), "", "1 if the saturation point lies outside the shot ladder"),
+                ("angle_deg", "velocity_m_s"), "1", "1 if the saturation point lies outside the shot ladder",
+                flag_values=np.array([0, 1]), flag_meanings="within_ladder extrapolated"),
             "saturation_shots": var(sat.saturation_shots.transpose("angle_deg", "velocity_m_s").values,
-                                    ("angle_deg", "velocity_m_s"), "shots", "saturation point T, eq. (11)"),
-            "largest_shot_count": var(float(sat.shots.values.max()), (), "shots", "end of the saturation ladder"),
+                                    ("angle_deg", "velocity_m_s"), "1", "saturation point T, eq. (11)"),
+            "largest_shot_count": var(float(sat.shots.values.max()), (), "1", "end of the saturation ladder (shots)"),
         },
-        coords={"angle_deg": table.angle_deg.values, "velocity_m_s": v, "velocity_fine_m_s": fine},
+        coords={"angle_deg": var(table.angle_deg.values, ("angle_deg",), **SWEEP_COORDS["angle_deg"]),
+                "velocity_m_s": var(v, ("velocity_m_s",), **SWEEP_COORDS["velocity_m_s"]),
+                "velocity_fine_m_s": var(fine, ("velocity_fine_m_s",), "m s-1",
+                                         "shot velocity (fine grid of the interpolant)")},
         attrs={"interpolation": interpolation},
     )

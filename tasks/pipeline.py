@@ -10,7 +10,7 @@
     target_impact -> target_dmin -> target_rev                       (no target.rev_size_mm)
     target_indentation + target_rev -> coverage_curve
     target_rev + target_velocity + coverage_curve -> target_runs[sequence] -> residual_profile
-    after a run: plots of whatever is done (PNG, beside the study)
+    after a run: plots of whatever is done (PNG) and report.html, in the store (report_dir)
 
 Each task receives only the parameters it uses, so editing one section of a
 study recomputes only the stages that depend on it, and two studies that
@@ -24,11 +24,14 @@ from pathlib import Path
 from peenflow.engine import Graph
 from peenflow.study import load_study
 
+from ._common import SWEEP_COORDS
 from .arc_height import arc_height
 from .control_curve import control_curve
+from .headline import headline_numbers
 from .coverage_curve import coverage_curve
 from .indentation import indentation
 from .plots import write_plots
+from .report import write_report
 from .residual_profile import residual_profile
 from .rev_size import rev_size
 from .rev_thickness import rev_thickness
@@ -91,6 +94,7 @@ STAGES: dict[str, str] = {
 def build_graph(path) -> Graph:
     study = load_study(path)
     g = Graph(study.name)
+    g.coord_attrs = dict(SWEEP_COORDS)
     D = study.shot.diameter_m
     shot = {"radius_m": study.shot.radius_m, "density_kg_m3": study.shot.density_kg_m3,
             "friction": study.shot.friction_coefficient}
@@ -190,6 +194,30 @@ def build_graph(path) -> Graph:
     unknown = set(g.stages) - set(STAGES)
     if unknown:  # a programming error: a stage added without its name in STAGES
         raise RuntimeError(f"stages missing from tasks.pipeline.STAGES: {sorted(unknown)}")
-    out_dir = Path(study.path).parent / f"{study.name}_plots"
-    g.reports.append(lambda graph, store: write_plots(graph, store, out_dir))
+    about = {"shot": study.shot.name,
+             "strip": study.almen.strip.name if study.almen is not None else None,
+             "target_material": study.target.material.name if study.target is not None else None,
+             "coverage_percent": study.target.coverage_percent if study.target is not None else None}
+    path = Path(study.path)
+    g.headline = headline_numbers
+
+    def plots_and_report(graph, store):
+        out = report_dir(store, path)
+        written = write_plots(graph, store, out, about)
+        return written + [write_report(graph, store, out, path, written)]
+
+    g.reports.append(plots_and_report)
     return g
+
+
+def report_dir(store, study_path: Path) -> Path:
+    """Where a study's plots (and report) go: in its store, one folder per study file.
+
+    ``<store>/reports/<file stem>-<8 hex of the file's absolute path>``: never a
+    tracked folder, and neither a copy of the study elsewhere nor another study
+    run into the same ``--store`` overwrites them.
+    """
+    from peenflow.engine.canonical import digest
+
+    resolved = Path(study_path).resolve()
+    return Path(store.root) / "reports" / f"{resolved.stem}-{digest(str(resolved), 8)}"

@@ -5,8 +5,12 @@
 * ``coverage.png``        Monte-Carlo coverage, eq. (5) fit, closed form, N_f (Fig. 18)
 * ``residual_stress.png`` σx, σy vs depth with the spread over sequences, and the measured profile (Fig. 19)
 
-Plots live beside the study (``<study>_plots/``), outside the store: they
-are views of stored results, remade after every run.
+Plots are views of stored results, remade after every run, and live in the
+store (``<store>/reports/<study>-<id>/``, see pipeline.report_dir): never in a
+tracked folder, and two studies never share a folder.
+
+``about``: names the figures print (``strip``, ``shot``, ``target_material``,
+``coverage_percent``), given by the pipeline from the study.
 """
 
 from __future__ import annotations
@@ -27,12 +31,20 @@ def _result(graph, store, stage):
         return None
 
 
-def write_plots(graph, store, out_dir: Path) -> list[Path]:
+def _sequences(ds) -> int:
+    return int(ds.sizes.get("sequence", 1))
+
+
+def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[Path]:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
 
+    about = about or {}
+    strip = f"type {about['strip']} strip" if about.get("strip") else "Almen strip"
+    shot = about.get("shot", "")
     out_dir = Path(out_dir)
     written = []
 
@@ -48,72 +60,99 @@ def write_plots(graph, store, out_dir: Path) -> list[Path]:
     sat = _result(graph, store, "saturation")
     if arc is not None:
         angles = arc.angle_deg.values
-        fig, axes = plt.subplots(1, len(angles), figsize=(5 * len(angles), 4), squeeze=False)
+        fig, axes = plt.subplots(1, len(angles), figsize=(6 * len(angles), 4.5), squeeze=False)
         for ax, a in zip(axes[0], angles):
             for v in arc.velocity_m_s.values:
                 ah = arc.arc_height_mm.sel(angle_deg=a, velocity_m_s=v)
                 if not np.isfinite(ah).any():
                     continue
                 n = arc.shots.values
-                line = ax.plot(n, ah.mean("sequence"), "o", label=f"{v:g} m/s")[0]
-                ax.plot(np.repeat(n[None], ah.sizes["sequence"], 0).ravel(), ah.values.ravel(), ".",
-                        color=line.get_color(), alpha=0.3)
+                label = f"{v:g} m/s"
+                fitted = None
                 # a partial result lacks the points whose fit failed (e.g. "cannot saturate")
                 if (sat is not None and "fit_arc_height_mm" in sat and a in sat.angle_deg.values
                         and v in sat.velocity_m_s.values):
                     s = sat.sel(angle_deg=a, velocity_m_s=v)
                     if np.isfinite(s.fit_arc_height_mm).any():
-                        ax.plot(s.shots_fine, s.fit_arc_height_mm, "-", color=line.get_color())
-                        ax.plot(float(s.saturation_shots), float(s.intensity_mm), "*", ms=12,
-                                color=line.get_color())
+                        fitted = s
+                        label += f": I = {float(s.intensity_mm):.3f} mm at T = {float(s.saturation_shots):.0f}"
+                        if "intensity_extrapolated" in s and int(s.intensity_extrapolated):
+                            label += " (T beyond the ladder)"
+                line = ax.plot(n, ah.mean("sequence"), "o", label=label)[0]
+                ax.plot(np.repeat(n[None], ah.sizes["sequence"], 0).ravel(), ah.values.ravel(), ".",
+                        color=line.get_color(), alpha=0.3)
+                if fitted is not None:
+                    ax.plot(fitted.shots_fine, fitted.fit_arc_height_mm, "-", color=line.get_color())
+                    ax.plot(float(fitted.saturation_shots), float(fitted.intensity_mm), "*", ms=13,
+                            color=line.get_color(), mec="k")
             ax.set_xscale("log")
-            ax.set(xlabel="shots N", ylabel="arc height (mm)", title=f"saturation, {a:g} deg (* = eq. 11)")
-            ax.legend(fontsize=8)
+            key = [Line2D([], [], color="0.3", marker="o", ls="", label="mean over sequences"),
+                   Line2D([], [], color="0.3", marker=".", ls="", alpha=0.4,
+                          label=f"each sequence ({_sequences(arc)})"),
+                   Line2D([], [], color="0.3", ls="-", label="fit of the mean (eq. 10)"),
+                   Line2D([], [], color="0.3", marker="*", ms=11, mec="k", ls="",
+                          label="saturation point T, intensity I (eq. 11)")]
+            handles, _ = ax.get_legend_handles_labels()
+            ax.legend(handles=handles + key, fontsize=7, loc="lower right")
+            ax.set(xlabel="shots N", ylabel="arc height (mm)",
+                   title=f"saturation curves, {strip}, {shot} at {a:g} deg".replace(" ,", ","))
         save(fig, "saturation.png")
 
     control = _result(graph, store, "control_curve")
     if control is not None:
-        fig, ax = plt.subplots(figsize=(6, 4))
+        fig, ax = plt.subplots(figsize=(6.5, 4.5))
+        n_seq = _sequences(sat) if sat is not None else 1
         for a in control.angle_deg.values:
             c = control.sel(angle_deg=a)
             line = ax.errorbar(c.velocity_m_s, c.intensity_mm, yerr=np.nan_to_num(c.intensity_std_mm), fmt="o",
                                capsize=3, label=f"{a:g} deg")
             ax.plot(c.velocity_fine_m_s, c.curve_intensity_mm, "-", color=line[0].get_color())
+        title = f"control curves, {strip}"
         tv = _result(graph, store, "target_velocity")
         if tv is not None and "intensity_mm" in tv:
             ax.axhline(float(tv.intensity_mm), ls=":", color="k")
             ax.axvline(float(tv.velocity_m_s), ls=":", color="k")
-            ax.set_title(f"control curves; target {float(tv.intensity_mm):g} mm -> {float(tv.velocity_m_s):.1f} m/s")
-        else:
-            ax.set_title("control curves")
-        ax.set(xlabel="shot velocity (m/s)", ylabel="Almen intensity (mm)")
-        ax.legend()
+            title += f"\ntarget {float(tv.intensity_mm):g} mm -> {float(tv.velocity_m_s):.1f} m/s"
+        ax.plot([], [], " ", label=f"error bars: std over {n_seq} sequence(s)" if n_seq > 1
+                else "one sequence: no spread")
+        ax.set(xlabel="shot velocity (m/s)", ylabel="Almen intensity (mm)", title=title)
+        ax.legend(fontsize=8)
         save(fig, "control_curves.png")
 
     cov = _result(graph, store, "coverage_curve")
     if cov is not None:
-        fig, ax = plt.subplots(figsize=(6, 4))
+        fig, ax = plt.subplots(figsize=(6.5, 4.5))
         n = cov.shots.values
         for s in cov.sequence.values:
-            ax.plot(n, cov.coverage_percent.sel(sequence=s), "-", color="0.7", lw=0.8)
+            ax.plot(n, cov.coverage_percent.sel(sequence=s), "-", color="0.8", lw=0.8)
+        ax.plot([], [], "-", color="0.8", label=f"each sequence ({_sequences(cov)})")
         ax.plot(n, cov.coverage_mean_percent, "o", ms=3, label="Monte Carlo (mean)")
-        ax.plot(n, cov.avrami_coverage_percent, "-", label=f"eq. (5), A = {float(cov.avrami_rate):.3g}")
+        ax.plot(n, cov.avrami_coverage_percent, "-", label=f"eq. (5), A = {float(cov.avrami_rate):.3g} per shot")
         ax.plot(n, cov.uniform_closed_form_percent, "--", label="closed form, uniform landings")
-        ax.axvline(float(cov.full_coverage_shots), ls=":", color="k")
+        ax.axhline(98.0, ls="-.", color="0.4", lw=0.8, label="98 % (full coverage)")
+        n_f, n_c = float(cov.full_coverage_shots), float(cov.coverage_shots)
+        ax.axvline(n_f, ls=":", color="k", label=f"N_f = {n_f:.0f}")
+        side_mm = float(np.sqrt(float(cov.peening_area_m2))) * 1e3
+        dent_r_mm = float(np.sqrt(float(cov.dent_area_m2) / np.pi)) * 1e3
+        cover = about.get("coverage_percent")
+        cover_text = f"N_c ({cover:g} %) = {n_c:.0f}" if cover else f"N_c = {n_c:.0f}"
         ax.set(xlabel="shots N", ylabel="coverage (%)",
-               title=f"coverage; N_f = {float(cov.full_coverage_shots):.0f}, N_c = {float(cov.coverage_shots):.0f}")
-        ax.legend()
+               title=f"coverage on the {side_mm:.2f} mm REV, dent radius {dent_r_mm:.3f} mm (equal area)\n"
+                     f"N_f = {n_f:.0f}, {cover_text}")
+        ax.legend(fontsize=8, loc="lower right")
         save(fig, "coverage.png")
 
     prof = _result(graph, store, "residual_profile")
     if prof is not None:
-        fig, ax = plt.subplots(figsize=(6, 4))
-        z = prof.depth_m.values * 1e3
+        fig, ax = plt.subplots(figsize=(7, 4.8))
+        z = np.asarray(prof.depth_m.values).reshape(-1) * 1e3
+        n_seq = _sequences(prof)
         for c in ("xx", "yy"):
             m = prof[f"stress_{c}_mean_MPa"].values
             s = prof[f"stress_{c}_spread_MPa"].values
-            line = ax.plot(z, m, "-", label=f"sigma_{c}")[0]
-            ax.fill_between(z, m - s, m + s, color=line.get_color(), alpha=0.2)
+            line = ax.plot(z, m, "-o", ms=3, label=f"sigma_{c}" + (" (mean)" if n_seq > 1 else ""))[0]
+            if n_seq > 1:
+                ax.fill_between(z, m - s, m + s, color=line.get_color(), alpha=0.2)
             if f"stress_{c}_free_mean_MPa" in prof:
                 ax.plot(z, prof[f"stress_{c}_free_mean_MPa"].values, "--", color=line.get_color(),
                         label=f"sigma_{c}, free part")
@@ -123,14 +162,35 @@ def write_plots(graph, store, out_dir: Path) -> list[Path]:
                 if sel.any():
                     ax.plot(prof.measured_depth_m.values[sel] * 1e3, prof.measured_stress_MPa.values[sel], marker,
                             mfc="none", label=f"measured sigma_{c}")
-        # On a thick part the peened layer is a small fraction of the depth:
-        # show 2.5 times the depth where |sigma_xx| last exceeds 5 % of its peak.
-        mean = np.abs(prof.stress_xx_mean_MPa.values)
-        significant = np.nonzero(mean > 0.05 * mean.max())[0]
-        if significant.size and 2.5 * z[significant[-1]] < z[-1]:
-            ax.set_xlim(0, 2.5 * z[significant[-1]])
+        # Show the peened layer, not the whole (mostly unstressed) REV depth:
+        # 1.5 times the depth where |mean sigma_xx| last exceeds 5 % of its peak.
+        mean = prof.stress_xx_mean_MPa.values
+        significant = np.nonzero(np.abs(mean) > 0.05 * np.abs(mean).max())[0]
+        if significant.size:
+            ax.set_xlim(0, min(z[-1], 1.5 * z[significant[-1]] + (z[1] - z[0] if z.size > 1 else 0)))
+        peak, at = float(prof.peak_compressive_xx_MPa), float(prof.peak_compressive_xx_depth_m) * 1e3
+        ax.annotate(f"peak {peak:.0f} MPa at {at:.3f} mm", (at, peak), xytext=(10, -5),
+                    textcoords="offset points", fontsize=8)
+        ax.annotate(f"surface {mean[0]:.0f} MPa", (z[0], mean[0]), xytext=(10, 12), textcoords="offset points",
+                    fontsize=8)
+        from .headline import compressive_depth  # (headline imports this module)
+
+        zc, _ = compressive_depth(z, mean)
+        if zc is not None:
+            ax.axvline(zc, ls=":", color="0.5", lw=0.8, label=f"compressive to {zc:.3f} mm")
         ax.axhline(0, color="k", lw=0.5)
-        ax.set(xlabel="depth (mm)", ylabel="residual stress (MPa)", title="residual stress (mean +- spread)")
-        ax.legend()
+        tv = _result(graph, store, "target_velocity")
+        what = [about.get("target_material", ""), shot]
+        if tv is not None:
+            if "intensity_mm" in tv:
+                what.append(f"{float(tv.intensity_mm):g} mm intensity")
+            what.append(f"{float(tv.velocity_m_s):.1f} m/s")
+        if about.get("coverage_percent"):
+            what.append(f"{about['coverage_percent']:g} % coverage")
+        spread = f"mean ± std over {n_seq} sequences" if n_seq > 1 else "one sequence (no spread)"
+        ax.set(xlabel="depth (mm)", ylabel="residual stress (MPa)",
+               title="residual stress, REV held at its bottom face; " + spread + "\n"
+                     + ", ".join(w for w in what if w))
+        ax.legend(fontsize=8, loc="lower right")
         save(fig, "residual_stress.png")
     return written

@@ -27,7 +27,7 @@ import xarray as xr
 
 from peenflow.methods import DepthProfile, equilibrium_residual
 
-from ._common import MPA, peening_task, var
+from ._common import MPA, depth as depth_coord, peening_task, var
 
 
 def _peak(depth, values):
@@ -83,10 +83,10 @@ def residual_profile(runs: xr.Dataset, *, measured: dict | None = None, free_par
         spread = s.std(axis=0, ddof=1) if s.shape[0] > 1 else np.zeros(s.shape[1])
         out[f"stress_{c}_spread_MPa"] = var(spread / MPA, ("layer",), "MPa", "std over sequences")
         peak, at = _peak(depth, means[c] / MPA)
-        out[f"peak_compressive_{c}_MPa"] = var(peak, (), "MPa")
-        out[f"peak_compressive_{c}_depth_m"] = var(at, (), "m")
-    out["depth_m"] = var(depth, ("layer",), "m", "layer mid-depth below the peened surface")
-    coords = {"sequence": runs.sequence.values}
+        out[f"peak_compressive_{c}_MPa"] = var(peak, (), "MPa", f"most compressive mean sigma_{c}")
+        out[f"peak_compressive_{c}_depth_m"] = var(at, (), "m", f"depth of the most compressive mean sigma_{c}")
+    coords = {"sequence": var(runs.sequence.values, ("sequence",), "1", "random shot sequence number"),
+              "depth_m": depth_coord(depth, "layer", "layer mid-depth below the peened surface")}
     attrs = {"measured_profile": "none", "free_part": "no (the REV is thinner than the part)"}
     z_edges = _one_profile(runs.z_edge_m.values)
     if free_part and abs(z_edges[-1] - free_part["thickness_m"]) <= 1e-9 * free_part["thickness_m"]:
@@ -96,7 +96,7 @@ def residual_profile(runs: xr.Dataset, *, measured: dict | None = None, free_par
                 released[c] / MPA, ("layer",), "MPa",
                 f"mean sigma_{c} of the free part (membrane force and bending moment released)")
             out[f"bow_curvature_{c}_1_per_m"] = var(
-                bow[c], (), "1/m", "curvature of the free part, positive when the peened face is convex")
+                bow[c], (), "m-1", "curvature of the free part, positive when the peened face is convex")
             out[f"free_relative_force_{c}"] = var(
                 balance[c].relative_force, (), "1", "|∫σ dz| / ∫|σ| dz of the free part (0 = equilibrium)")
             out[f"free_relative_moment_{c}"] = var(
@@ -111,18 +111,19 @@ def residual_profile(runs: xr.Dataset, *, measured: dict | None = None, free_par
         for c in ("xx", "yy"):
             at = comp == c
             ours[at] = np.interp(md[at], depth, out[f"stress_{c}_mean_MPa"].values)
-        coords["measured_point"] = np.arange(md.size)
-        out["measured_depth_m"] = var(md, ("measured_point",), "m")
+        coords["measured_point"] = var(np.arange(md.size), ("measured_point",), "1", "measured point number")
+        coords["measured_depth_m"] = depth_coord(md, "measured_point", "depth of the measured point")
         out["measured_stress_MPa"] = var(ms, ("measured_point",), "MPa", "measured residual stress")
-        out["measured_component"] = xr.Variable(("measured_point",), (comp == "yy").astype(np.int8), {
-            "long_name": "stress component of the measurement", "flag_values": np.array([0, 1], dtype=np.int8),
-            "flag_meanings": "sigma_xx sigma_yy"})
+        out["measured_component"] = var((comp == "yy").astype(np.int8), ("measured_point",), "1",
+                                        "stress component of the measurement",
+                                        flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="sigma_xx sigma_yy")
         out["predicted_at_measured_MPa"] = var(ours, ("measured_point",), "MPa",
-                                               "our mean profile of the same component at the measured depth")
-        out["rms_difference_MPa"] = var(float(np.sqrt(np.mean((ours - ms) ** 2))), (), "MPa")
+                                               "predicted mean stress of the same component at the measured depth")
+        out["rms_difference_MPa"] = var(float(np.sqrt(np.mean((ours - ms) ** 2))), (), "MPa",
+                                        "RMS of predicted - measured")
         mpeak, mat = _peak(md, ms)
-        out["measured_peak_compressive_MPa"] = var(mpeak, (), "MPa")
-        out["measured_peak_depth_m"] = var(mat, (), "m")
+        out["measured_peak_compressive_MPa"] = var(mpeak, (), "MPa", "most compressive measured stress")
+        out["measured_peak_depth_m"] = var(mat, (), "m", "depth of the most compressive measured stress")
         counts = ", ".join(f"{int((comp == c).sum())} sigma_{c}" for c in ("xx", "yy") if (comp == c).any())
         attrs["measured_profile"] = f"{md.size} points ({counts})"
     return xr.Dataset(out, coords=coords, attrs=attrs)

@@ -107,12 +107,12 @@ def rev_thickness(velocity: xr.Dataset, dent: xr.Dataset, *, material: dict, sho
         {
             "thickness_m": var(chosen, (), "m", "REV thickness from the single-impact convergence check"),
             "plastic_depth_m": var(d_p, (), "m", f"deepest layer with eps_p > {PLASTIC_FRACTION:g} x max"),
-            "candidate_thickness_m": var(np.array(tried), ("candidate",), "m"),
-            "stress_difference": var(np.array(stress_diff), ("candidate",), "",
+            "candidate_thickness_m": var(np.array(tried), ("candidate",), "m", "candidate REV thickness h"),
+            "stress_difference": var(np.array(stress_diff), ("candidate",), "1",
                                      "max |sigma(h) - sigma(2h)| / max |sigma(2h)| under the dent"),
-            "dent_depth_difference": var(np.array(dent_diff), ("candidate",), "", "|dent(h) - dent(2h)| / dent(2h)"),
+            "dent_depth_difference": var(np.array(dent_diff), ("candidate",), "1", "|dent(h) - dent(2h)| / dent(2h)"),
         },
-        coords={"candidate": np.arange(len(tried))},
+        coords={"candidate": var(np.arange(len(tried)), ("candidate",), "1", "candidate number")},
         attrs={"tolerance": tolerance, "part_thickness_m": part_thickness_m,
                "rule": "converged" if chosen < part_thickness_m else "part thickness (no thinner block converged)"},
     )

@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 from . import _kernel as K
-from ._common import peening_task, scalar, var
+from ._common import COMPONENT_LONG_NAME, depth, labels, peening_task, scalar, var
 
 
 def run_single_impact(material: dict, shot: dict, fidelity: dict, speed: float, angle_deg: float,
@@ -53,27 +53,34 @@ def impact_dataset(mesh, result, normal: bool) -> xr.Dataset:
     data = {
         "stress_Pa": var(stress, ("z_cell", "y_cell", "x_cell", "component"), "Pa",
                          "relaxed residual stress (model part)"),
-        "plastic_strain": var(eps, ("z_cell", "y_cell", "x_cell"), "", "equivalent plastic strain"),
+        "plastic_strain": var(eps, ("z_cell", "y_cell", "x_cell"), "1", "equivalent plastic strain"),
         "surface_uz_m": var(uz, ("x_node_full", "y_node_full"), "m", "top-surface displacement, + into target"),
         "surface_von_mises_Pa": var(vm_top, ("x_cell_full", "y_cell_full"), "Pa", "top-layer von Mises residual"),
-        "restitution": var(float(shots["restitution"][0]), (), "", "-v_out,z / v_in,z"),
-        "peak_force_N": var(float(shots["peak_force"][0]), (), "N"),
+        "restitution": var(float(shots["restitution"][0]), (), "1", "coefficient of restitution -v_out,z / v_in,z"),
+        "peak_force_N": var(float(shots["peak_force"][0]), (), "N", "peak contact force on the model part"),
         "max_approach_m": var(float(shots["max_approach"][0]), (), "m", "deepest point of the shot below z = 0"),
-        "contact_time_s": var(float(shots["contact_duration"][0]), (), "s"),
+        "contact_time_s": var(float(shots["contact_duration"][0]), (), "s", "duration of contact"),
         "rebound_velocity_m_s": var(np.array([shots["vout_x"][0], shots["vout_y"][0], shots["vout_z"][0]]),
-                                    ("xyz",), "m/s"),
-        "energy_error": var(float(result.energy_error), (), "", "energy balance error / impact energy"),
-        "hourglass_ratio": var(float(result.hourglass_ratio), (), "", "hourglass / internal energy"),
-        "impact_x_m": var(0.0, (), "m"), "impact_y_m": var(0.0, (), "m"),
+                                    ("xyz",), "m s-1", "shot velocity after the impact"),
+        "energy_error": var(float(result.energy_error), (), "1", "energy balance error / impact energy"),
+        "hourglass_ratio": var(float(result.hourglass_ratio), (), "1", "hourglass / internal energy"),
+        "impact_x_m": var(0.0, (), "m", "impact point x"), "impact_y_m": var(0.0, (), "m", "impact point y"),
     }
-    coords = {"x_cell": xc, "y_cell": yc, "z_cell": zc, "component": list(K.VOIGT),
-              "x_node_full": xs, "y_node_full": ys, "x_cell_full": xcs, "y_cell_full": ycs,
-              "xyz": ["x", "y", "z"], "z_node": mesh.z}
+    coords = {"x_cell": var(xc, ("x_cell",), "m", "element centre x (model part)"),
+              "y_cell": var(yc, ("y_cell",), "m", "element centre y (model part)"),
+              "z_cell": depth(zc, "z_cell", "element centre depth below the surface"),
+              "component": labels(K.VOIGT, "component", COMPONENT_LONG_NAME),
+              "x_node_full": var(xs, ("x_node_full",), "m", "surface node x (full block)"),
+              "y_node_full": var(ys, ("y_node_full",), "m", "surface node y (full block)"),
+              "x_cell_full": var(xcs, ("x_cell_full",), "m", "top-layer element centre x (full block)"),
+              "y_cell_full": var(ycs, ("y_cell_full",), "m", "top-layer element centre y (full block)"),
+              "xyz": labels("xyz", "xyz", "vector component"),
+              "z_node": depth(mesh.z, "z_node", "node layer depth below the surface")}
     if hist is not None:
-        coords["time_s"] = hist["time"]
+        coords["time_s"] = var(hist["time"], ("time_s",), "s", "time since the start of the impact")
         data["contact_force_N"] = var(hist["force"][:, 2] * (4 if normal else 2), ("time_s",), "N",
                                       "normal contact force on the whole shot")
-        data["shot_z_m"] = var(hist["centre"][:, 2], ("time_s",), "m")
+        data["shot_z_m"] = var(hist["centre"][:, 2], ("time_s",), "m", "shot centre z, positive into the target")
     return xr.Dataset(data, coords=coords)
 
 

@@ -62,7 +62,7 @@ def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | 
     """The velocity on the control curve (``interpolation``: "pchip" or
     "linear" in velocity, as ``almen.interpolation``) at the target intensity."""
     if velocity_m_s is not None:
-        return xr.Dataset({"velocity_m_s": var(velocity_m_s, (), "m/s", "given in the study")},
+        return xr.Dataset({"velocity_m_s": var(velocity_m_s, (), "m s-1", "shot velocity, given in the study")},
                           attrs={"method": "given"})
     curves = []
     for a in control.angle_deg.values:
@@ -95,7 +95,7 @@ def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | 
         bracket = sorted({float(grid[grid <= v].max()), float(grid[grid >= v].min())})
         _check_saturated(control, used, bracket)
     return xr.Dataset(
-        {"velocity_m_s": var(v, (), "m/s", "velocity giving the target intensity on the control curve"),
+        {"velocity_m_s": var(v, (), "m s-1", "shot velocity giving the target intensity on the control curve"),
          "intensity_mm": var(intensity_mm, (), "mm", "target Almen intensity")},
         attrs={"method": rule, "interpolation": interpolation,
                "control_angles_deg": ", ".join(f"{a:g}" for a in family.angles)},

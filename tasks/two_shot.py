@@ -92,10 +92,12 @@ def dmin(impact: xr.Dataset, *, material: dict, shot: dict, fidelity: dict, angl
         {
             "d_min_m": var(search.d_min, (), "m", "smallest separation without interaction (eq. 4)"),
             "resolution_m": var(search.resolution, (), "m", "d_min is within this above the true value"),
-            "bracket_lower_m": var(search.lower, (), "m"), "bracket_upper_m": var(search.upper, (), "m"),
+            "bracket_lower_m": var(search.lower, (), "m", "lower end of the final bisection bracket"),
+            "bracket_upper_m": var(search.upper, (), "m", "upper end of the final bisection bracket"),
             "single_region_radius_m": var(radius, (), "m", "eq. (4) region radius of one impact"),
-            "overlap": var(np.array([int(done[d]) for d in runs]), ("run",), "", "1 if the regions touch"),
+            "overlap": var(np.array([int(done[d]) for d in runs]), ("run",), "1", "1 if the regions touch",
+                           flag_values=np.array([0, 1]), flag_meanings="separate touching"),
         },
-        coords={"distance_m": ("run", np.array(runs))},
+        coords={"distance_m": var(np.array(runs), ("run",), "m", "two-shot separation of the run")},
         attrs={"angle_deg": angle_deg, "velocity_m_s": velocity_m_s, "threshold": threshold, "method": method},
     )

@@ -4,9 +4,11 @@
     peenflow status STUDY [--why]
     peenflow rerun STUDY STAGE
     peenflow show STUDY STAGE
+    peenflow report STUDY
     peenflow check STUDY
     peenflow clean STUDY [--dry-run]
     peenflow unlock STUDY [KEY ... | --all]
+    peenflow --version
 """
 
 from __future__ import annotations
@@ -14,13 +16,16 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import check, clean, rerun, run, show, status, unlock
+from . import check, clean, report, rerun, run, show, status, unlock
 
-VERBS = [run, status, rerun, show, check, clean, unlock]
+VERBS = [run, status, rerun, show, report, check, clean, unlock]
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from .. import __version__
+
     parser = argparse.ArgumentParser(prog="peenflow", description=__doc__.split("\n")[0])
+    parser.add_argument("--version", action="version", version=f"peenflow {__version__}")
     sub = parser.add_subparsers(dest="verb", required=True, metavar="VERB")
     for verb in VERBS:
         p = sub.add_parser(verb.NAME, help=verb.HELP, description=verb.__doc__)

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..engine import Reporter, execute
-from ._common import add_study, load, stage_nodes
+from ..engine import Reporter, SchedulerUnreachable, execute
+from ._common import UserError, add_study, load, stage_nodes
 from .status import print_plan
 
 NAME = "run"
@@ -46,10 +46,14 @@ def execute_and_report(args, graph, store, nodes, forced=frozenset()) -> int:
     reporter.line(f"study {graph.name}: {len(nodes)} points, store {store.root}")
     workers = args.workers or graph.execution.get("workers")
     threads = args.threads or graph.execution.get("threads")
-    outcomes = execute(graph, store, nodes, forced=set(forced), scheduler=args.scheduler,
-                       workers=workers, threads=threads, reporter=reporter)
+    try:
+        outcomes = execute(graph, store, nodes, forced=set(forced), scheduler=args.scheduler,
+                           workers=workers, threads=threads, reporter=reporter)
+    except SchedulerUnreachable as exc:
+        raise UserError(str(exc)) from None
     reporter.line("")
     reporter.line(reporter.summary())
+    print_headline(graph, store, reporter.line)
     for report in graph.reports:
         try:
             for path in report(graph, store) or ():
@@ -58,6 +62,28 @@ def execute_and_report(args, graph, store, nodes, forced=frozenset()) -> int:
             reporter.line(f"report {getattr(report, '__name__', report)} failed: {type(exc).__name__}: {exc}")
     bad = [o for o in outcomes if not o.ok]
     return 1 if bad else 0
+
+
+def headline_rows(graph, store) -> list:
+    """The study's headline numbers from what is done ([] if it has none, or they fail)."""
+    if graph.headline is None:
+        return []
+    try:
+        return list(graph.headline(graph, store))
+    except Exception as exc:  # a failed summary never hides the run's own outcome
+        return [("headline numbers", "failed", f"{type(exc).__name__}: {exc}")]
+
+
+def print_headline(graph, store, emit=print) -> None:
+    rows = headline_rows(graph, store)
+    if not rows:
+        return
+    w1 = max(len(r[0]) for r in rows)
+    w2 = max(len(r[1]) for r in rows)
+    emit("")
+    emit("headline numbers:")
+    for q, v, note in rows:
+        emit(f"  {q:{w1}s}  {v:>{w2}s}  {note}".rstrip())
 
 
 def main(args) -> int:

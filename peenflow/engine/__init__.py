@@ -22,7 +22,7 @@ It knows nothing about shot peening.  Pieces, one module each:
 """
 
 from .context import TaskContext
-from .executor import execute
+from .executor import SchedulerUnreachable, execute
 from .graph import Graph, Group, Node, Sweep
 from .pipeline import StudyFileError, load_graph
 from .planner import plan
@@ -35,6 +35,6 @@ from .task import Task, task
 
 __all__ = [
     "DirectoryStore", "Graph", "Group", "Node", "Outcome", "Reason", "Reporter",
-    "ResultNotReady", "State", "StudyFileError", "Sweep", "Task", "TaskContext", "execute",
+    "ResultNotReady", "SchedulerUnreachable", "State", "StudyFileError", "Sweep", "Task", "TaskContext", "execute",
     "load_graph", "plan", "stage_result", "task",
 ]

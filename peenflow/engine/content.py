@@ -3,7 +3,9 @@
 Downstream keys use the *content* of their upstream results, not the
 upstream keys: an upstream rerun that produces identical data does not
 invalidate anything downstream (early cut-off).  Provenance attributes
-(``peenflow_*``: times, host, versions) are excluded, as is netCDF encoding.
+(``peenflow_*``: times, host, versions) are excluded, as are the descriptive
+global attributes (``title``, ``history``, ``source``, ``Conventions``; see
+conventions.py) and netCDF encoding.
 """
 
 from __future__ import annotations
@@ -15,12 +17,16 @@ import numpy as np
 import xarray as xr
 
 PROVENANCE_PREFIX = "peenflow_"
+#: global attributes that say where a file came from, not what it holds (CF's
+#: descriptive attributes, see conventions.py): a rerun tomorrow, or another
+#: study that shares the result, must hash the same
+DESCRIPTIVE_ATTRS = ("Conventions", "title", "history", "source")
 
 
-def _attrs_text(attrs: dict) -> str:
+def _attrs_text(attrs: dict, skip: tuple = ()) -> str:
     clean = {}
     for k in sorted(attrs):
-        if k.startswith(PROVENANCE_PREFIX):
+        if k.startswith(PROVENANCE_PREFIX) or k in skip:
             continue
         v = attrs[k]
         if isinstance(v, np.ndarray):
@@ -41,7 +47,7 @@ def _array_bytes(values: np.ndarray) -> bytes:
 def dataset_content_hash(ds: xr.Dataset) -> str:
     """SHA-256 (hex, 32 chars) over variable names, dims, dtypes, values and attrs."""
     h = hashlib.sha256()
-    h.update(_attrs_text(ds.attrs).encode())
+    h.update(_attrs_text(ds.attrs, DESCRIPTIVE_ATTRS).encode())
     for name in sorted(map(str, ds.variables)):
         var = ds.variables[name]
         values = np.asarray(var.values)

@@ -36,6 +36,8 @@ class TaskContext:
         self._store = store
         self._checkpoints = Checkpoints(store.checkpoint_dir(key))
         self._last_progress = 0.0
+        self._started = time.time()
+        self._progress_base: tuple[float, float] | None = None
         self.resumed = self._checkpoints.exists()
 
     @property
@@ -57,9 +59,14 @@ class TaskContext:
         if not final and now - self._last_progress < self.PROGRESS_INTERVAL_S:
             return
         self._last_progress = now
+        if self._progress_base is None:
+            # ETA base: this process's start, or for a resumed point its first
+            # record (the work before it came from the checkpoint)
+            self._progress_base = (now, done) if self.resumed else (self._started, 0.0)
         self._store.write_progress(self.key, {
             "study": self.study, "point": self.point, "done": done, "total": total,
             "unit": unit, "note": note, "time": now,
+            "started": self._progress_base[0], "base": self._progress_base[1],
         })
 
     def load_checkpoint(self) -> xr.Dataset | None:

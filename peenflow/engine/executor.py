@@ -28,6 +28,13 @@ from .report import Reporter
 from .runner import Outcome, PointSpec, UpstreamRef, run_node
 from .store import DirectoryStore
 
+#: seconds to wait for a dask scheduler to answer (``$PEENFLOW_SCHEDULER_TIMEOUT_S``)
+SCHEDULER_TIMEOUT_S = float(os.environ.get("PEENFLOW_SCHEDULER_TIMEOUT_S", "30"))
+
+
+class SchedulerUnreachable(ConnectionError):
+    """The dask scheduler given by ``--scheduler`` did not answer."""
+
 
 def available_cores() -> int:
     try:
@@ -54,6 +61,7 @@ def point_specs(graph: Graph, nodes: list[Node], store: DirectoryStore, forced: 
             params=node.params, upstream=refs, store_root=str(store.root), study=graph.name,
             forced=node.node_id in forced,
             threads=threads[node.stage] if isinstance(threads, dict) else threads,
+            sweep_attrs={d: dict(graph.coord_attrs.get(d, {})) for d in node.coords},
         )
         out[node.node_id] = (spec, [u.node_id for u in ups])
     return out
@@ -73,6 +81,7 @@ class _ProgressMonitor(threading.Thread):
         while not self.stop.wait(self.every_s):
             if not base.exists():
                 continue
+            moved = False
             for p in sorted(base.glob("*.json")):
                 rec = self.store.progress(p.stem)
                 if not rec or rec.get("study") != self.study:
@@ -81,11 +90,14 @@ class _ProgressMonitor(threading.Thread):
                 if self._seen.get(p.stem) != stamp:
                     self._seen[p.stem] = stamp
                     self.reporter.progress(rec.get("point", p.stem), rec)
+                    moved = True
+            if moved:
+                self.reporter.tick()
 
 
 def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: set[str] = frozenset(),
             scheduler: str | None = None, workers: int | None = None, threads: int | None = None,
-            reporter: Reporter | None = None, progress_every_s: float = 10.0) -> list[Outcome]:
+            reporter: Reporter | None = None, progress_every_s: float | None = None) -> list[Outcome]:
     """Run ``nodes`` (an ancestor-closed subset of ``graph``, in graph order)."""
     reporter = reporter or Reporter()
     Path(store.root).mkdir(parents=True, exist_ok=True)
@@ -102,7 +114,8 @@ def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: s
     specs = point_specs(graph, nodes, store, set(forced), threads)
     dsk = {nid: (run_node, spec, ups) for nid, (spec, ups) in specs.items()}
     keys = list(dsk)
-    monitor = _ProgressMonitor(store, graph.name, reporter, progress_every_s)
+    every = progress_every_s or float(os.environ.get("PEENFLOW_PROGRESS_EVERY_S", 0)) or reporter.poll_s
+    monitor = _ProgressMonitor(store, graph.name, reporter, every)
     monitor.start()
     try:
         if scheduler is None:
@@ -115,6 +128,7 @@ def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: s
             outcomes = _run_distributed(dsk, keys, scheduler, reporter)
     finally:
         monitor.stop.set()
+        reporter.finish()
     return outcomes
 
 
@@ -133,7 +147,14 @@ def _run_local(dsk, keys, workers, reporter) -> list[Outcome]:
 def _run_distributed(dsk, keys, address, reporter) -> list[Outcome]:
     from distributed import Client, as_completed
 
-    with Client(address, timeout="30s") as client:
+    try:
+        client = Client(address, timeout=f"{SCHEDULER_TIMEOUT_S:g}s")
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise SchedulerUnreachable(
+            f"cannot reach the dask scheduler at {address} within {SCHEDULER_TIMEOUT_S:g} s "
+            f"({type(exc).__name__}): check that `dask scheduler` runs there, that the address and port are "
+            "right (tcp://HOST:PORT, default port 8786) and that no firewall blocks it") from None
+    with client:
         futures = client.get(dsk, keys, sync=False)
         by_future = dict(zip(futures, keys))
         results = {}

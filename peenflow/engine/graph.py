@@ -97,6 +97,11 @@ class Graph:
         self.reports: list = []
         #: execution defaults a study may set (``workers``, ``threads``); command-line flags win
         self.execution: dict = {}
+        #: ``f(graph, store) -> [(quantity, value, note)]``: the study's headline numbers from
+        #: whatever is done, printed after a run and tabled in the report (None: none)
+        self.headline = None
+        #: attributes of sweep coordinates in stored results, ``{dim: {"units": ..., "long_name": ...}}``
+        self.coord_attrs: dict = {}
 
     # -- building -----------------------------------------------------------
     def _register_stage(self, task: Task, stage: str | None) -> str:

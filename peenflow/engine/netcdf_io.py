@@ -26,3 +26,12 @@ def read_dataset(path: Path) -> xr.Dataset:
     with NETCDF_LOCK:
         with xr.open_dataset(path, engine=ENGINE, cache=False) as ds:
             return ds.load()
+
+
+def open_lazy(path: Path) -> xr.Dataset:
+    """The Dataset backed by dask arrays: values are read when computed (the file stays open).
+
+    For analysis after a run; xarray's netCDF4 backend takes its own HDF5 lock
+    for every read.
+    """
+    return xr.open_dataset(path, engine=ENGINE, chunks={})

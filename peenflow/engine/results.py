@@ -15,8 +15,14 @@ class ResultNotReady(LookupError):
     pass
 
 
-def stage_result(graph: Graph, store: DirectoryStore, stage: str, allow_partial: bool = False) -> xr.Dataset:
-    """The stage's Dataset; a swept stage's points combined along its sweep dims."""
+def stage_result(graph: Graph, store: DirectoryStore, stage: str, allow_partial: bool = False,
+                 lazy: bool = False) -> xr.Dataset:
+    """The stage's Dataset; a swept stage's points combined along its sweep dims.
+
+    ``lazy``: dask-backed (values read when computed), else loaded into memory.
+    Provenance attributes are kept: a combined stage keeps those its points
+    share, and every point's own in ``peenflow_points`` (JSON).
+    """
     nodes = graph.stage_nodes(stage)
     items = [i for i in plan(graph, store, graph.until(stage)) if i.node.stage == stage]
     ready = [i for i in items if i.state in (State.DONE, State.STALE)]
@@ -27,7 +33,8 @@ def stage_result(graph: Graph, store: DirectoryStore, stage: str, allow_partial:
             + ", ".join(missing[:5]) + ("..." if len(missing) > 5 else "")
             + f" -- run `peenflow run` first"
         )
-    datasets = [store.open(i.node.task.name, i.key) for i in ready]
+    opener = store.open_lazy if lazy else store.open
+    datasets = [opener(i.node.task.name, i.key) for i in ready]
     if len(nodes) == 1 and not nodes[0].coords:
         return datasets[0]
     dims = list(nodes[0].coords)

@@ -21,9 +21,12 @@ from datetime import datetime, timezone
 
 import xarray as xr
 
+from .. import __version__
+from .blas import pin_blas_threads
 from .canonical import canonical_json
 from .combine import combine_points
 from .context import TaskContext
+from .conventions import conform, squeeze_point
 from .cores import active_budget
 from .keys import KeyParts, reason_against_slot
 from .lease import STALE_AFTER_S
@@ -57,6 +60,8 @@ class PointSpec:
     study: str
     forced: bool = False
     threads: int = 1
+    #: CF attributes of the sweep coordinates ({dim: {"units": ..., "long_name": ...}})
+    sweep_attrs: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -109,12 +114,16 @@ def _versions() -> dict:
 def _load_upstream(store: DirectoryStore, spec: PointSpec, ups: list[Outcome]) -> dict:
     args = {}
     for name, ref in spec.upstream.items():
+        # Stored points carry their sweep values as length-1 dims (conventions.py);
+        # the task gets them as 0-d coordinates, except the dims it combines along.
         if ref.dims is None:
             o = ups[ref.indices[0]]
-            args[name] = store.open(o.task, o.key)
+            args[name] = squeeze_point(store.open(o.task, o.key), o.coords)
         else:
             datasets = [store.open(ups[i].task, ups[i].key) for i in ref.indices]
-            args[name] = combine_points(datasets, [ups[i].coords for i in ref.indices], ref.dims)
+            combined = combine_points(datasets, [ups[i].coords for i in ref.indices], ref.dims)
+            fixed = {d for i in ref.indices for d in ups[i].coords if d not in ref.dims}
+            args[name] = squeeze_point(combined, sorted(fixed))
     return args
 
 
@@ -217,6 +226,7 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
         ctx.clear_checkpoint()
     started = time.time()
     try:
+        blas_threads = pin_blas_threads()  # same on a dask worker as here: bit-identical results
         kwargs = dict(spec.params)
         kwargs.update(_load_upstream(store, spec, ups))
         if task.wants_ctx:
@@ -225,7 +235,14 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
         if not isinstance(result, xr.Dataset):
             raise TypeError(f"task {task.name!r} returned {type(result).__name__}, expected xarray.Dataset")
         finished = time.time()
-        result = result.copy()
+        when = datetime.fromtimestamp(finished, timezone.utc).isoformat(timespec="seconds")
+        result = conform(
+            result, sweep=spec.coords, sweep_attrs=spec.sweep_attrs,
+            title=f"peenflow {spec.stage} result",
+            history=f"{when}: computed by peenflow {__version__} on {socket.gethostname()} "
+                    f"(study {spec.study}, point {spec.node_id})",
+            source=f"peenflow {__version__}, task {task.name} ({parts.code}, code fingerprint "
+                   f"{source_hash})")
         result.attrs.update({
             "peenflow_task": task.name,
             "peenflow_stage": spec.stage,
@@ -245,6 +262,7 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
             "peenflow_pid": os.getpid(),
             "peenflow_resumed": int(ctx.resumed),
             "peenflow_threads": ctx.granted or 0,
+            "peenflow_blas_threads": blas_threads,
         })
         manifest = store.write_result(task.name, key, result, parts.to_dict(), source_hash,
                                       replace=spec.forced)

@@ -35,7 +35,7 @@ from .atomic import TMP_SUFFIX, fsync_file, read_json, temporary_sibling, write_
 from .canonical import digest
 from .content import dataset_content_hash
 from .lease import LeaseTable
-from .netcdf_io import read_dataset, write_dataset
+from .netcdf_io import open_lazy, read_dataset, write_dataset
 
 
 class StoreError(RuntimeError):
@@ -166,6 +166,10 @@ class DirectoryStore:
     def open(self, task: str, key: str) -> xr.Dataset:
         """The stored Dataset, loaded into memory (the file is closed again)."""
         return read_dataset(self.result_path(task, key))
+
+    def open_lazy(self, task: str, key: str) -> xr.Dataset:
+        """The stored Dataset on dask arrays (read when computed)."""
+        return open_lazy(self.result_path(task, key))
 
     def discard(self, task: str, key: str) -> None:
         """Remove an invalid result (never called on a valid one)."""

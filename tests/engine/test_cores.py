@@ -45,8 +45,9 @@ def test_lone_point_gets_every_core_and_a_sweep_never_oversubscribes(tmp_path, m
     results = {n.node_id: store.open(n.task.name, o.key) for n, o in zip(graph.nodes, outcomes)}
     lone = [r for nid, r in results.items() if nid.startswith("lone")]
     wide = [r for nid, r in results.items() if nid.startswith("wide")]
-    assert int(lone[0].threads) == cores
-    assert {int(r.threads) for r in wide} <= set(range(1, cores // workers + 1))
+    assert lone[0].threads.item() == cores
+    # (.item(): a point file holds its sweep value as a length-1 dimension)
+    assert {r.threads.item() for r in wide} <= set(range(1, cores // workers + 1))
     assert toy_pipeline._in_use["peak"] <= cores
 
 

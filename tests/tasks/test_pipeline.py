@@ -22,15 +22,6 @@ def peenflow_cli(*args, check=True):
     return proc
 
 
-@pytest.fixture(scope="module")
-def micro(tmp_path_factory):
-    d = tmp_path_factory.mktemp("micro")
-    shutil.copy(HERE / "micro.toml", d / "micro.toml")
-    study = d / "micro.toml"
-    peenflow_cli("run", study, "--workers", "2")
-    return study
-
-
 def test_strip_arc_height_grows_with_shots_and_velocity(micro):
     arc = peenflow.open_result(micro, "arc_height").arc_height_mm.isel(angle_deg=0, sequence=0)
     for v in arc.velocity_m_s.values:
@@ -139,17 +130,21 @@ def test_killed_study_resumes_mid_stage_to_the_identical_result(micro, tmp_path)
                                  "--threads", "1"], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                 start_new_session=True)
         t0 = time.time()
+
+        def unfinished_checkpoints():
+            # a finished point's result lands just before its checkpoint is
+            # dropped: wait for a checkpoint whose point has no result yet
+            return [c for c in store.glob("checkpoints/*/checkpoint.nc")
+                    if not list(store.glob(f"results/*/{c.parent.name}.nc"))]
+
         try:
-            while not (list(store.glob("checkpoints/*/checkpoint.nc"))
-                       and list(store.glob("results/strip_runs/*.nc"))):
+            while not (unfinished_checkpoints() and list(store.glob("results/strip_runs/*.nc"))):
                 assert time.time() - t0 < 300 and proc.poll() is None, "run ended before it could be killed"
                 time.sleep(0.01)
         finally:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
-        unfinished = [c for c in store.glob("checkpoints/*/checkpoint.nc")
-                      if not list(store.glob(f"results/*/{c.parent.name}.nc"))]
-        if unfinished:
+        if unfinished_checkpoints():
             break
     else:
         raise AssertionError("no kill landed mid-point in 5 attempts")
@@ -204,7 +199,9 @@ def test_measured_profile_from_the_template_through_run(micro):
     rms = np.sqrt(np.mean((np.array(ours) - np.array([p[1] for p in points])) ** 2))
     assert float(prof.rms_difference_MPa) == pytest.approx(rms, rel=1e-12)
     assert float(prof.measured_peak_compressive_MPa) == -380.0
-    assert (micro.parent / "micro_measured_plots" / "residual_stress.png").stat().st_size > 0
+    from tasks.pipeline import report_dir
+
+    assert (report_dir(peenflow.api.open_store(study), study) / "residual_stress.png").stat().st_size > 0
 
 
 def test_bad_measured_profile_is_refused_with_its_line_numbers(tmp_path):

@@ -25,3 +25,34 @@ def test_saturation_figure_survives_a_failed_fit(tmp_path, monkeypatch):
     written = plots.write_plots(None, None, tmp_path)
     assert [p.name for p in written] == ["saturation.png"]
     assert (tmp_path / "saturation.png").stat().st_size > 1000
+
+
+def test_residual_stress_figure_says_what_it_shows(tmp_path, monkeypatch):
+    """One sequence: no spread band and no 'mean +- spread' claim; markers on the layers;
+    surface value, peak and compressive depth annotated; material and intensity named."""
+    import matplotlib.collections
+    import matplotlib.pyplot as plt
+
+    z = np.array([0.03, 0.09, 0.15, 0.21, 0.27, 0.33, 0.39]) * 1e-3
+    sxx = np.array([-422.0, -440.0, -450.0, -381.0, -233.0, -49.0, -2.4])
+    prof = xr.Dataset(
+        {"stress_xx_mean_MPa": ("layer", sxx), "stress_yy_mean_MPa": ("layer", sxx + 3),
+         "stress_xx_spread_MPa": ("layer", np.zeros(7)), "stress_yy_spread_MPa": ("layer", np.zeros(7)),
+         "stress_xx_MPa": (("sequence", "layer"), sxx[None]),
+         "peak_compressive_xx_MPa": ((), -450.0), "peak_compressive_xx_depth_m": ((), 0.15e-3)},
+        coords={"depth_m": ("layer", z), "sequence": [0]})
+    tv = xr.Dataset({"velocity_m_s": ((), 47.2), "intensity_mm": ((), 0.4)})
+    results = {"residual_profile": prof, "target_velocity": tv}
+    monkeypatch.setattr(plots, "_result", lambda graph, store, stage: results.get(stage))
+    figures = []
+    monkeypatch.setattr(plt.Figure, "savefig", lambda self, *a, **k: figures.append(self))
+    plots.write_plots(None, None, tmp_path, {"target_material": "Al7075-T73", "shot": "S230"})
+    (ax,) = figures[0].axes
+    title = ax.get_title()
+    assert "one sequence" in title and "±" not in title and "+-" not in title
+    assert "Al7075-T73" in title and "0.4 mm" in title and "held" in title
+    assert not any(isinstance(c, matplotlib.collections.PolyCollection) for c in ax.collections)  # no band
+    assert all(line.get_marker() not in (None, "None", "") for line in ax.get_lines()[:2])
+    notes = " ".join(t.get_text() for t in ax.texts)
+    assert "surface -422 MPa" in notes and "peak -450 MPa at 0.150 mm" in notes
+    assert any("compressive to" in t.get_text() for t in ax.get_legend().get_texts())

@@ -1,0 +1,128 @@
+"""The numbers a study exists to give, read from whatever stages are done.
+
+Printed at the end of every run and tabled in the report: the control
+curve's intensities (mean over sequences ± their standard deviation), the
+velocity for the target intensity, d_min and the REV, the dent, N_f and N_c,
+and the residual-stress profile's surface value, peak, depth of the peak and
+compressive depth.  Each row is ``(quantity, value with unit, note)``.
+
+The preset's stated error is not printed yet: the fidelity presets do not
+state one (see BENCHMARKS.md for measured mesh errors).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .plots import _result
+
+
+def _pm(mean: float, std: float, unit: str, digits: int = 3) -> str:
+    if np.isfinite(std) and std > 0:
+        return f"{mean:.{digits}f} ± {std:.{digits}f} {unit}"
+    return f"{mean:.{digits}f} {unit}"
+
+
+#: a profile that never turns tensile (a REV held at its bottom) is compressive down to
+#: where it rises above this fraction of its peak
+VANISHING_FRACTION = 0.05
+
+
+def _crossing(z: np.ndarray, s: np.ndarray, level: float) -> float | None:
+    """First depth where ``s`` rises above ``level`` (linear between layers); None if it never does."""
+    k = np.nonzero(s > level)[0]
+    if not k.size or k[0] == 0:
+        return None
+    i = int(k[0])
+    return float(z[i - 1] + (z[i] - z[i - 1]) * (level - s[i - 1]) / (s[i] - s[i - 1]))
+
+
+def compressive_depth(z: np.ndarray, s: np.ndarray) -> tuple[float | None, str]:
+    """(depth, how) of the compressive layer of a profile compressive at the surface.
+
+    The first zero crossing; without one (a held REV has no balancing tension),
+    where ``s`` rises above ``VANISHING_FRACTION`` of its peak compression.
+    """
+    if s[0] >= 0:
+        return None, "not compressive at the surface"
+    zero = _crossing(z, s, 0.0)
+    if zero is not None:
+        return zero, "first zero crossing of the mean"
+    level = VANISHING_FRACTION * float(np.min(s))
+    return _crossing(z, s, level), (f"no tension in the held REV: where the mean rises above "
+                                    f"{VANISHING_FRACTION:.0%} of its peak")
+
+
+def _one(ds, name) -> float:
+    return float(np.asarray(ds[name]).reshape(-1)[0])
+
+
+def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
+    rows: list[tuple[str, str, str]] = []
+
+    def get(stage):
+        return _result(graph, store, stage)
+
+    control = get("control_curve")
+    if control is not None:
+        for a in control.angle_deg.values:
+            for v in control.velocity_m_s.values:
+                c = control.sel(angle_deg=a, velocity_m_s=v)
+                i = float(c.intensity_mm)
+                if not np.isfinite(i):
+                    continue
+                note = f"saturation T = {float(c.saturation_shots):.0f} shots"
+                if int(c.intensity_extrapolated):
+                    note += ", beyond the ladder (extrapolated)"
+                rows.append((f"Almen intensity, {a:g} deg, {v:g} m/s", _pm(i, float(c.intensity_std_mm), "mm"),
+                             note))
+    tv = get("target_velocity")
+    if tv is not None:
+        if "intensity_mm" in tv:
+            rows.append((f"velocity for {float(tv.intensity_mm):g} mm intensity", f"{float(tv.velocity_m_s):.1f} m/s",
+                         f"read off the control curve ({tv.attrs.get('method', '')})"))
+        else:
+            rows.append(("shot velocity", f"{float(tv.velocity_m_s):.1f} m/s", "given in the study"))
+    for stage, what in (("strip_dmin", "strip"), ("target_dmin", "target")):
+        dm = get(stage)
+        if dm is None:
+            continue
+        if "angle_deg" in dm.dims:
+            for a in dm.angle_deg.values:
+                d = dm.sel(angle_deg=a)
+                rows.append((f"{what} d_min, {a:g} deg", f"{float(d.d_min_m) * 1e3:.3f} mm",
+                             f"within +{float(d.resolution_m) * 1e3:.3f} mm (bisection)"))
+        else:
+            rows.append((f"{what} d_min", f"{float(dm.d_min_m) * 1e3:.3f} mm",
+                         f"within +{float(dm.resolution_m) * 1e3:.3f} mm (bisection)"))
+    for stage, what in (("strip_rev", "strip"), ("target_rev", "target")):
+        rev = get(stage)
+        if rev is not None:
+            rows.append((f"{what} REV", f"{float(rev.rev_side_m) * 1e3:.3f} mm side",
+                         f"measuring {float(rev.measure_side_m) * 1e3:.3f} mm, {float(rev.thickness_m) * 1e3:.3g} mm "
+                         f"thick, rule {rev.attrs.get('rule', '?')}"))
+    dent = get("target_indentation")
+    if dent is not None:
+        rows.append(("target dent", f"{float(dent.dent_semi_axis_along_m) * 1e3:.3f} × "
+                     f"{float(dent.dent_semi_axis_across_m) * 1e3:.3f} mm",
+                     f"semi-axes along × across, {float(dent.dent_depth_m) * 1e6:.1f} um deep"))
+    cov = get("coverage_curve")
+    if cov is not None:
+        rows.append(("N_f (98 % coverage)", f"{float(cov.full_coverage_shots):.0f} shots", "eq. (5) fit"))
+        rows.append((f"N_c ({cov.attrs.get('target_coverage_percent', 0):g} % coverage)",
+                     f"{int(cov.coverage_shots_rounded)} shots", "shots of each target REV run"))
+    prof = get("residual_profile")
+    if prof is not None:
+        z = np.asarray(prof.depth_m.values).reshape(-1)
+        n = int(prof.sizes.get("sequence", 1))
+        spread = f"std over {n} sequences" if n > 1 else "one sequence, no spread"
+        for c in ("xx", "yy"):
+            m = prof[f"stress_{c}_mean_MPa"].values
+            s = prof[f"stress_{c}_spread_MPa"].values
+            rows.append((f"surface sigma_{c}", _pm(m[0], s[0], "MPa", 0), f"top layer, {z[0] * 1e3:.3f} mm; {spread}"))
+            k = int(np.nanargmin(m))
+            rows.append((f"peak sigma_{c}", _pm(m[k], s[k], "MPa", 0), f"at {z[k] * 1e3:.3f} mm depth"))
+        zc, how = compressive_depth(z, prof.stress_xx_mean_MPa.values)
+        rows.append(("compressive depth (sigma_xx)", f"{zc * 1e3:.3f} mm" if zc is not None else "n/a", how))
+    return rows
+

@@ -1,0 +1,73 @@
+"""What a run ends with (headline numbers) and what `peenflow show` prints, on the micro study."""
+
+import re
+
+import numpy as np
+
+import peenflow
+import peenflow.api
+
+
+def cli(*args, capsys):
+    """The command in this process (a subprocess per stage would cost seconds each)."""
+    from types import SimpleNamespace
+
+    from peenflow.cli import main
+
+    capsys.readouterr()
+    rc = main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return SimpleNamespace(returncode=rc, stdout=out, stderr=err)
+
+
+def _row(text: str, quantity: str) -> str:
+    m = re.search(rf"^  {re.escape(quantity)}\s+(.+?)\s\s", text, re.M)
+    assert m, f"no headline row {quantity!r} in:\n{text}"
+    return m.group(1).strip()
+
+
+def test_a_run_ends_with_the_studys_headline_numbers(micro):
+    out = micro.with_name("run.log").read_text()
+    assert "headline numbers:" in out
+    head = out.split("headline numbers:")[1]
+    cov = peenflow.open_result(micro, "coverage_curve")
+    assert _row(head, "N_f (98 % coverage)") == f"{float(cov.full_coverage_shots):.0f} shots"
+    prof = peenflow.open_result(micro, "residual_profile")
+    assert _row(head, "surface sigma_xx") == f"{float(prof.stress_xx_mean_MPa[0]):.0f} MPa"
+    k = int(np.argmin(prof.stress_xx_mean_MPa.values))
+    assert _row(head, "peak sigma_xx") == f"{float(prof.stress_xx_mean_MPa[k]):.0f} MPa"
+    assert _row(head, "shot velocity") == "45.0 m/s"  # micro gives the target velocity
+    ctrl = peenflow.open_result(micro, "control_curve")
+    assert _row(head, "Almen intensity, 90 deg, 55 m/s") == f"{float(ctrl.intensity_mm.sel(angle_deg=90.0, velocity_m_s=55.0)):.3f} mm"
+    dent = peenflow.open_result(micro, "target_indentation")
+    assert f"{float(dent.dent_semi_axis_along_m) * 1e3:.3f}" in _row(head, "target dent")
+
+
+def test_show_prints_full_values_and_takes_every_stage_and_task_name(micro, capsys):
+    graph = peenflow.api.load_study_graph(micro)
+    for stage in graph.stages:
+        proc = cli("show", micro, stage, capsys=capsys)
+        assert proc.returncode == 0, (stage, proc.stderr)
+        assert proc.stdout.startswith(f"stage {stage}\n") and "files:" in proc.stdout
+    ctrl = peenflow.open_result(micro, "control_curve")
+    out = cli("show", micro, "control_curve", capsys=capsys).stdout
+    for v in ctrl.intensity_mm.values.ravel():
+        assert repr(float(v)) in out  # every digit, not "0.3601 ..."
+    assert "[mm]  Almen intensity" in out
+    # a task name a single stage runs stands for that stage; an ambiguous one is refused by name
+    assert cli("show", micro, "single_impact", capsys=capsys).stdout.startswith("stage target_impact\n")
+    proc = cli("show", micro, "rev_size", capsys=capsys)
+    assert proc.returncode == 2 and "strip_rev" in proc.stderr and "target_rev" in proc.stderr
+    proc = cli("show", micro, "no_such_stage", capsys=capsys)
+    assert proc.returncode == 2 and "residual_profile" in proc.stderr  # lists the stages
+
+
+def test_compressive_depth_is_the_zero_crossing_or_where_a_held_profile_fades():
+    from tasks.headline import compressive_depth
+
+    z = np.array([0.1, 0.2, 0.3, 0.4])
+    depth, how = compressive_depth(z, np.array([-400.0, -200.0, 200.0, 50.0]))
+    assert depth == 0.25 and "zero crossing" in how  # halfway between -200 and +200
+    # never tensile: where it rises above 5 % of the -400 peak, i.e. -20, between -100 and -10
+    depth, how = compressive_depth(z, np.array([-300.0, -400.0, -100.0, -10.0]))
+    assert abs(depth - (0.3 + 0.1 * 80.0 / 90.0)) < 1e-12 and "held REV" in how
