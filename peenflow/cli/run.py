@@ -6,6 +6,7 @@ import argparse
 
 from ..engine import Reporter, execute
 from ._common import add_study, load, stage_nodes
+from ._interrupts import stop_on_signals
 from .status import print_plan
 
 NAME = "run"
@@ -46,10 +47,15 @@ def execute_and_report(args, graph, store, nodes, forced=frozenset()) -> int:
     reporter.line(f"study {graph.name}: {len(nodes)} points, store {store.root}")
     workers = args.workers or graph.execution.get("workers")
     threads = args.threads or graph.execution.get("threads")
-    outcomes = execute(graph, store, nodes, forced=set(forced), scheduler=args.scheduler,
-                       workers=workers, threads=threads, reporter=reporter)
+    with stop_on_signals() as stopped:
+        outcomes = execute(graph, store, nodes, forced=set(forced), scheduler=args.scheduler,
+                           workers=workers, threads=threads, reporter=reporter)
     reporter.line("")
     reporter.line(reporter.summary())
+    if stopped["signal"] is not None:
+        reporter.line("interrupted: finished results and the checkpoints of stopped points are kept; "
+                      "run again to resume")
+        return 128 + stopped["signal"]
     for report in graph.reports:
         try:
             for path in report(graph, store) or ():
