@@ -89,6 +89,37 @@ def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: s
     """Run ``nodes`` (an ancestor-closed subset of ``graph``, in graph order)."""
     reporter = reporter or Reporter()
     Path(store.root).mkdir(parents=True, exist_ok=True)
+    registration = register_run(store, graph.name)
+    try:
+        return _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter, progress_every_s)
+    finally:
+        if registration is not None:
+            registration.release()
+
+
+CLEAN_WAIT_S = 0.2
+
+
+def register_run(store: DirectoryStore, study: str):
+    """Announce a live run in ``runs/`` (``clean`` spares what it writes), then wait for a running
+    ``clean`` to finish.  Registering first closes the race: a clean that starts later sees this run.
+    None on a read-only store (nothing can be written there anyway)."""
+    import socket
+    import time
+    import uuid
+
+    try:
+        lease = store.runs.try_acquire(f"{socket.gethostname()}.{os.getpid()}.{uuid.uuid4().hex[:8]}", study)
+    except OSError:
+        return None
+    while True:
+        info, alive, _ = store.locks.verdict("clean")
+        if info is None or alive is False:
+            return lease
+        time.sleep(CLEAN_WAIT_S)
+
+
+def _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter, progress_every_s):
     cores = available_cores()
     budget = None
     if scheduler is None:
