@@ -30,6 +30,7 @@ from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
+from .bounds import bound_keys, check_bounds
 from .errors import Problem, StudyError, format_value, suggest, translate
 from .fidelity import Fidelity, expand_preset
 from .items import Material, Shot, Strip
@@ -54,7 +55,7 @@ SECTIONS: dict[str, type[BaseModel]] = {
 }
 REGISTRY: dict[str, type[BaseModel]] = {"materials": Material, "shots": Shot, "strips": Strip}
 SINGULAR = {"materials": "material", "shots": "shot", "strips": "Almen strip"}
-STUDY_KEYS = ("name", "description", "include", "extends")
+STUDY_KEYS = ("name", "description", "include", "extends", "allow_outside_bounds")
 TOP_KEYS = ("study", *SECTIONS, *REGISTRY)
 # Where a section names a library item: (section, key, registry kind).
 REFERENCES = (("shot", "type", "shots"), ("almen", "strip", "strips"), ("target", "material", "materials"))
@@ -211,7 +212,7 @@ class _Loader:
             if target["measured_profile_csv"]:
                 target["measured_profile_csv"] = str((file.parent / target["measured_profile_csv"]).resolve())
 
-        info = {k: table[k] for k in ("name", "description", "extends") if k in table}
+        info = {k: table[k] for k in ("name", "description", "extends", "allow_outside_bounds") if k in table}
         raw = _Raw(data=data, info=info, includes=includes, chain=[file])
         parent_spec = table.get("extends")
         if parent_spec is None:
@@ -372,18 +373,34 @@ class _Loader:
                 sections[name] = validated
 
         self.cross_checks(sections, failed)
+        outside = self.bounds(sections, info) if not failed and info is not None else []
         if self.problems or info is None or failed:
+            self.problems += outside
             return None
         try:
-            return Study(
+            study = Study(
                 info=info,
                 path=self.path,
                 extends_chain=tuple(raw.chain),
                 **sections,
             )
-        except ValidationError as exc:  # should not happen: sections are valid
+        except ValidationError as exc:  # a check that spans sections (e.g. a periodic REV too small)
             self.problems += translate(exc, Study)
-            return None
+            study = None
+        self.problems += outside
+        return None if outside else study
+
+    def bounds(self, sections: dict, info: StudyInfo) -> list[Problem]:
+        """Values outside their validated range (bounds.py), except the keys the study allows."""
+        out = []
+        known = bound_keys()
+        for i, k in enumerate(info.allow_outside_bounds):
+            if k not in known:
+                out.append(Problem(f"study.allow_outside_bounds[{i}]", f"no bound on this key{suggest(k, known)} "
+                                   f"(keys with bounds: {', '.join(known)})", None, format_value(k)))
+        for key, value, message in check_bounds(sections, set(info.allow_outside_bounds)):
+            out.append(Problem(key, message, None, format_value(value)))
+        return out
 
     def validate(self, model: type[BaseModel], value: dict, prefix: str) -> BaseModel | None:
         try:
@@ -468,14 +485,14 @@ class _Loader:
         for n, row in enumerate(rows[1:], start=2):
             try:
                 depth = float(row[idx["depth_mm"]])
-                float(row[idx["stress_MPa"]])
+                stress = float(row[idx["stress_MPa"]])
                 comp = row[idx["component"]].strip()
-                ok = depth >= 0 and comp in PROFILE_COMPONENTS
+                ok = math.isfinite(depth) and math.isfinite(stress) and depth >= 0 and comp in PROFILE_COMPONENTS
             except (ValueError, IndexError):
                 ok = False
             if not ok:
                 bad.append(n)
         if bad:
             shown = ", ".join(map(str, bad[:5])) + (" ..." if len(bad) > 5 else "")
-            self.add(key, f"{file.name}: bad data on row(s) {shown}; expected depth_mm >= 0, stress_MPa a number, "
+            self.add(key, f"{file.name}: bad data on row(s) {shown}; expected depth_mm >= 0, stress_MPa a finite number (not nan or inf), "
                      f"component one of {', '.join(PROFILE_COMPONENTS)}")
