@@ -31,12 +31,19 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    from ..engine.executor import SchedulerError
     from ._common import UserError
 
     try:
         return int(args.handler(args) or 0)
-    except UserError as exc:
+    except (UserError, SchedulerError) as exc:
         print(f"peenflow {args.verb}: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # the environment: read-only or full disk, a path that is a file, ...
+        if isinstance(exc, BrokenPipeError):
+            return 0
+        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+        print(f"peenflow {args.verb}: {exc.strerror or exc}{where}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # output piped into `head`
         return 0

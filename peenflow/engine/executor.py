@@ -29,6 +29,10 @@ from .runner import Outcome, PointSpec, UpstreamRef, run_node
 from .store import DirectoryStore
 
 
+class SchedulerError(RuntimeError):
+    """The dask.distributed scheduler named by ``--scheduler`` cannot be used."""
+
+
 def available_cores() -> int:
     try:
         return len(os.sched_getaffinity(0))
@@ -164,7 +168,11 @@ def _run_local(dsk, keys, workers, reporter) -> list[Outcome]:
 def _run_distributed(dsk, keys, address, reporter) -> list[Outcome]:
     from distributed import Client, as_completed
 
-    with Client(address, timeout="30s") as client:
+    try:
+        client = Client(address, timeout="30s")
+    except (OSError, ValueError, TypeError) as exc:  # unreachable, refused, malformed address
+        raise SchedulerError(f"cannot reach the dask scheduler at {address}: {type(exc).__name__}: {exc}") from None
+    with client:
         futures = client.get(dsk, keys, sync=False)
         by_future = dict(zip(futures, keys))
         results = {}

@@ -30,6 +30,7 @@ from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
+from .._toml import describe_toml_error
 from .bounds import bound_keys, check_bounds
 from .errors import Problem, StudyError, format_value, suggest, translate
 from .fidelity import Fidelity, expand_preset
@@ -146,12 +147,17 @@ class _Loader:
     # --- files --------------------------------------------------------------
     def read_toml(self, file: Path, key: str = "", referrer: Path | None = None) -> dict | None:
         try:
+            if file.is_dir():
+                self.add(key, f"{file} is a directory; expected a TOML file", referrer)
+                return None
             with open(file, "rb") as fh:
                 return tomllib.load(fh)
         except FileNotFoundError:
             self.add(key, f"file not found: {file}", referrer)
+        except UnicodeDecodeError as exc:
+            self.add("", f"{file.name} is not a text TOML file (byte {exc.start} is not UTF-8)", file)
         except tomllib.TOMLDecodeError as exc:
-            self.add("", f"TOML syntax error in {file.name}: {exc}", file)
+            self.add("", f"TOML syntax error in {file.name}: {describe_toml_error(file, exc)}", file)
         except OSError as exc:
             self.add(key, f"cannot read {file}: {exc}", referrer)
         return None
