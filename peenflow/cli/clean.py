@@ -107,7 +107,7 @@ class _Plan:
                 self.kept["used by this study"] += 1
                 continue
             if not superseded and key in self.slot_keys:
-                self.kept["referenced by another study's last run"] += 1
+                self.kept["referenced by the last run of a study on this store"] += 1
                 continue
             why = self._spared(real_key, path, manifest)
             if why:
