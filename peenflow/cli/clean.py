@@ -168,6 +168,11 @@ def main(args) -> int:
             if not args.dry_run:
                 store.leases.break_if_dead(key)
             print(f"{verb} lease {key[:12]}: {why}")
+        for info in store.runs.all():  # the records of killed runs
+            if verdict(info)[0] is False:
+                if not args.dry_run:
+                    store.runs.break_if_dead(info.key)
+                print(f"{verb} runs/{info.key}: {verdict(info)[1]}")
         for p in decided.doomed:
             if not args.dry_run:
                 if p.is_dir():

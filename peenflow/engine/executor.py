@@ -114,6 +114,8 @@ def register_run(store: DirectoryStore, study: str):
 
     try:
         lease = store.runs.try_acquire(f"{socket.gethostname()}.{os.getpid()}.{uuid.uuid4().hex[:8]}", study)
+        for other in store.runs.all():  # records of killed runs: nothing else removes them
+            store.runs.break_if_dead(other.key)
     except OSError:
         return None
     while True:
