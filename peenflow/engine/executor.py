@@ -19,7 +19,10 @@ which records its own failures, so a failed point never stops the others.
 from __future__ import annotations
 
 import os
+import socket
 import threading
+import time
+import uuid
 from pathlib import Path
 
 from .cores import CoreBudget, set_active_budget, wanted_threads
@@ -108,10 +111,6 @@ def register_run(store: DirectoryStore, study: str):
     """Announce a live run in ``runs/`` (``clean`` spares what it writes), then wait for a running
     ``clean`` to finish.  Registering first closes the race: a clean that starts later sees this run.
     None on a read-only store (nothing can be written there anyway)."""
-    import socket
-    import time
-    import uuid
-
     try:
         lease = store.runs.try_acquire(f"{socket.gethostname()}.{os.getpid()}.{uuid.uuid4().hex[:8]}", study)
         for other in store.runs.all():  # records of killed runs: nothing else removes them
