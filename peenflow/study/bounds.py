@@ -51,8 +51,8 @@ BOUNDS: tuple[Bound, ...] = (
     Bound("target.angle_deg", 45.0, 90.0, "deg", _A),
     Bound("dmin.strip_angles_deg", 45.0, 90.0, "deg", _A),
     Bound("target.coverage_percent", 1.0, 1000.0, "%",
-          "a 1000 % sequence finishes on the coarsest mesh (micro study, 100 um); 10 000 % there ran away "
-          "(runaway energy at about 4100 %, plastic strain near 10)"),
+          "a 1000 % sequence finishes on the coarsest mesh (micro study, 100 um, 3 seeds); 10 000 % there ran "
+          "away at 4100-5200 % (runaway energy, plastic strain near 10; BENCHMARKS.md 4b)"),
     Bound("almen.shot_counts", 1.0, 5120.0, "shots", "the longest strip ladder run (paper_al7075_coarse.toml)"),
     Bound("almen.sequences", 1.0, 64.0, "", "cost: each sequence is a full ladder of REV runs"),
     Bound("target.sequences", 1.0, 64.0, "", "cost: each sequence is a full REV run"),
@@ -87,7 +87,7 @@ BOUNDS: tuple[Bound, ...] = (
 #: bounds relative to other values: (key, what, basis); checked in :func:`check_bounds`
 RELATIVE_BOUNDS: tuple[tuple[str, str, str], ...] = (
     ("fidelity.element_size_um", "at most D / 5 (shot diameter)",
-     "the dent of the slowest plastic impact spans ~D / 5; a coarser element cannot resolve it"),
+     "the dents computed so far have radii of 0.2-0.26 D (README): D / 5 keeps at least one element per dent radius"),
     ("fidelity.element_size_um", "at most 7.5 estimated contact radii at the study's lowest velocity",
      "the stability sweep reaches 7.3 (1 m/s on 100 um elements, SAE 1070; bench_stability.py low)"),
     ("almen.rev_size_mm", "at least 1 D and 10 elements", "a REV must hold one dent; fewer elements "
@@ -185,7 +185,7 @@ def _relative(s: dict, allowed: set[str]) -> list[Problem]:
     key = "fidelity.element_size_um"
     if key not in allowed and h_mm > d_mm / 5.0:
         out.append((key, fid.element_size_um, f"larger than D / 5 = {d_mm / 5 * 1e3:.4g} um for the "
-                    f"{shot.name} shot (a dent spans ~D / 5 at the slowest plastic impact)" + hint.format(key)))
+                    f"{shot.name} shot (dents of 0.2-0.26 D radius need at least one element across their radius)" + hint.format(key)))
     if key not in allowed:
         worst = None
         for velocities, mat, where in _impacts(s):

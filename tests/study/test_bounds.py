@@ -143,3 +143,11 @@ def test_every_bound_is_documented():
     for b in BOUNDS:  # the documented range is the enforced one
         assert b.describe().replace(" " + b.unit, "") in section or b.describe() in section, b.key
     assert len(RELATIVE_BOUNDS) >= 4
+
+
+def test_the_documented_example_message_is_the_real_one(write_study):
+    from pathlib import Path
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "study-files.md").read_text()
+    found = _problems_for(write_study, {"target.coverage_percent": 10000.0}, "target.coverage_percent")
+    assert found and f"  - {found[0]}\n" in doc
