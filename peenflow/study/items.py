@@ -42,13 +42,15 @@ class JohnsonCook(StudyModel):
                     f"johnson_cook.m = {self.m!r} is not 0, so room_temperature_K and "
                     "melt_temperature_K are required"
                 )
-        # The kernel fills a missing temperature (293 K room, 1793 K melt) and refuses melt <= room.
+        # The kernel fills a missing temperature (293 K room, 1793 K melt), starts every run at 293 K and
+        # refuses a melt temperature at or below either.
         room = self.room_temperature_K if self.room_temperature_K is not None else 293.0
         melt = self.melt_temperature_K if self.melt_temperature_K is not None else 1793.0
-        if melt <= room:
+        if melt <= max(room, 293.0):
             raise ValueError(
                 f"johnson_cook.melt_temperature_K = {melt!r} must be above "
-                f"room_temperature_K = {room!r} (a temperature not given is 293 K room / 1793 K melt)"
+                f"room_temperature_K = {room!r} and the initial temperature of every run, 293 K (a temperature "
+                "not given is 293 K room / 1793 K melt)"
             )
         return self
 

@@ -108,6 +108,10 @@ def test_a_hardening_exponent_the_kernel_refuses_is_refused_by_the_loader(write_
     inline["johnson_cook"] = {"A_MPa": 400.0, "B_MPa": 300.0, "C": 0.01, "n": 0.3, "melt_temperature_K": 250.0}
     problems = validate_study(write_study({"materials": {"X": inline}, "target.material": "X"}))
     assert any("melt_temperature_K = 250.0 must be above room_temperature_K = 293.0" in p for p in problems)
+    inline["johnson_cook"] = {"A_MPa": 400.0, "B_MPa": 300.0, "C": 0.01, "n": 0.3, "room_temperature_K": 200.0,
+                              "melt_temperature_K": 250.0}  # above room, below the 293 K every run starts at
+    problems = validate_study(write_study({"materials": {"X": inline}, "target.material": "X"}))
+    assert any("melt_temperature_K = 250.0 must be above" in p and "293 K" in p for p in problems), problems
     inline["johnson_cook"] = {"A_MPa": 400.0, "B_MPa": 300.0, "C": 0.01, "n": 5.0}
     problems = validate_study(write_study({"materials": {"X": inline}, "target.material": "X"}))
     assert any(p.startswith("materials.X.johnson_cook.n = 5.0: outside the validated range") for p in problems)
