@@ -45,8 +45,8 @@ def _counter(study, store):
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP], ids=lambda s: s.name)
 def test_one_signal_stops_at_the_next_checkpoint_and_the_next_run_resumes(tmp_path, sig):
-    # counter: 40 steps of 0.25 s, a checkpoint after each; it runs alone (the toy's other points are quick)
-    study = write_toy(tmp_path / "s", steps=40, counter_delay_s=0.25)
+    # counter: 16 steps of 0.25 s, a checkpoint after each; it runs alone (the toy's other points are quick)
+    study = write_toy(tmp_path / "s", steps=16, counter_delay_s=0.25)
     store = tmp_path / "s" / ".peenflow"
     proc = _start("run", study)
     try:
@@ -65,13 +65,13 @@ def test_one_signal_stops_at_the_next_checkpoint_and_the_next_run_resumes(tmp_pa
     assert "x interrupted" in out and "checkpoint saved" in out and "failed" not in out.split("stage")[0]
     assert not _live(store / "leases") and not _live(store / "runs")
     stopped_at = int(xr.open_dataset(next(store.glob("checkpoints/*/checkpoint.nc"))).step.item())
-    assert 3 <= stopped_at < 40
+    assert 3 <= stopped_at < 16
     assert not list(store.glob("failures/*/*.json"))  # an interrupt is not a failure
     st = statuses(peenflow("run", study).stdout)
     assert st["counter"] == "computed"
     ds = DirectoryStore(store).open("counter", _counter(study, store).key)
     assert int(ds.started_at_step) == stopped_at  # resumed where it stopped ...
-    assert float(ds.acc) == sum(range(40))  # ... with the uninterrupted answer
+    assert float(ds.acc) == sum(range(16))  # ... with the uninterrupted answer
 
 
 def test_a_second_ctrl_c_exits_at_once_without_traceback_and_releases_the_lease(tmp_path):
@@ -103,7 +103,7 @@ def test_a_second_ctrl_c_exits_at_once_without_traceback_and_releases_the_lease(
 
 
 def test_a_killed_rerun_resumes_its_own_checkpoint(tmp_path):
-    study = write_toy(tmp_path / "s", steps=30, counter_delay_s=0.2)
+    study = write_toy(tmp_path / "s", steps=16, counter_delay_s=0.15)
     store = tmp_path / "s" / ".peenflow"
     peenflow("run", study, timeout=120)
     proc = _start("rerun", study, "counter")
@@ -117,4 +117,4 @@ def test_a_killed_rerun_resumes_its_own_checkpoint(tmp_path):
     out = peenflow("rerun", study, "counter", timeout=120).stdout
     assert "resuming its own checkpoint" in out
     ds = DirectoryStore(store).open("counter", _counter(study, store).key)
-    assert int(ds.started_at_step) >= reached and float(ds.acc) == sum(range(30))
+    assert int(ds.started_at_step) >= reached and float(ds.acc) == sum(range(16))
