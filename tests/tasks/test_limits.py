@@ -135,3 +135,37 @@ def test_a_long_sequence_at_the_largest_allowed_coverage_finishes(tmp_path):
     too_far.write_text(text.replace("coverage_percent = 100.0", "coverage_percent = 10000.0"))
     assert any(p.startswith("target.coverage_percent = 10000.0: outside the validated range [1, 1000] %")
                for p in validate_study(too_far))
+
+
+@pytest.mark.slow
+def test_ctrl_c_stops_a_real_rev_run_within_seconds_and_it_resumes(tmp_path):
+    """Issue 12 item 3 end to end: the micro target REV at 1000 % (590 shots); Ctrl-C part-way."""
+    import os
+    import signal
+    import time
+
+    study = tmp_path / "dense.toml"
+    text = (HERE / "micro.toml").read_text().replace('name = "micro"', 'name = "dense"')
+    study.write_text(text.replace("coverage_percent = 100.0", "coverage_percent = 1000.0"))
+    cmd = [sys.executable, "-m", "peenflow.cli", "run", str(study), "--until", "target_runs"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    progress = tmp_path / ".peenflow" / "progress"
+    t0 = time.time()
+    while True:  # wait until the REV run is part-way (its progress record counts shots)
+        recs = [p.read_text() for p in progress.glob("*.json")] if progress.exists() else []
+        if any('"unit": "shots"' in r and '"done": 1' in r for r in recs):  # 100-199 shots done
+            break
+        assert proc.poll() is None and time.time() - t0 < 300
+        time.sleep(0.05)
+    t1 = time.time()
+    os.kill(proc.pid, signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    took = time.time() - t1
+    print(f"REV run stopped {took:.2f} s after Ctrl-C")
+    assert proc.returncode == 130 and "Traceback" not in err
+    assert took < 5.0
+    assert "x interrupted" in out and "target_runs" in out
+    out = subprocess.run(cmd, capture_output=True, text=True, timeout=600).stdout
+    assert "resuming from checkpoint" in out
+    runs = peenflow.open_result(study, "target_runs")
+    assert int(runs.shots.values[-1]) == int(runs.attrs["coverage_shots"]) > 500
