@@ -27,6 +27,7 @@ from pathlib import Path
 
 from .cores import CoreBudget, set_active_budget, wanted_threads
 from .graph import Graph, Group, Node
+from .lease import STALE_AFTER_S
 from .report import Reporter
 from .runner import Outcome, PointSpec, UpstreamRef, run_node
 from .store import DirectoryStore
@@ -119,7 +120,9 @@ def register_run(store: DirectoryStore, study: str):
         return None
     while True:
         info, alive, _ = store.locks.verdict("clean")
-        if info is None or alive is False:
+        # another host's clean silent for a minute is not deleting any more: do not wait the 10 minutes
+        # its lease takes to count as dead (a clean that starts later sees this run anyway)
+        if info is None or alive is False or (alive is None and info.heartbeat_age_s > STALE_AFTER_S):
             return lease
         time.sleep(CLEAN_WAIT_S)
 
