@@ -11,6 +11,13 @@ few % would be a silent bad result: the table shows whether there is one.
 
     PYTHONPATH=. python benchmarks/bench_stability.py            # full sweep (~5 min on one core)
     PYTHONPATH=. python benchmarks/bench_stability.py quick      # 12 cases
+    PYTHONPATH=. python benchmarks/bench_stability.py low        # 1, 2, 5 m/s, with and without the
+                                                                 # tasks' minimum window (issue 12 item 10)
+    PYTHONPATH=. python benchmarks/bench_stability.py dense      # long sequences at the largest allowed
+                                                                 # coverage on the micro REV (item 11)
+
+Every case runs with the window minimum the tasks pass
+(``tasks._kernel.WINDOW_MIN_ELEMENTS``) unless the table says otherwise.
 """
 
 from __future__ import annotations
@@ -32,18 +39,20 @@ from peenflow.fe.mesh import graded_box  # noqa: E402
 from peenflow.fe.model import Target  # noqa: E402
 from peenflow.fe.safety import KernelInstabilityError  # noqa: E402
 from peenflow.fe.shots import Shots  # noqa: E402
+from tasks._kernel import WINDOW_MIN_ELEMENTS  # noqa: E402
 
 STATUS = {S.ST_NEGATIVE_VOLUME: "negative volume", S.ST_DISTORTION: "distortion", S.ST_NAN: "NaN/Inf",
           S.ST_DT_COLLAPSE: "step collapse", S.ST_RUNAWAY: "runaway energy", S.ST_MAX_STEPS: "step budget"}
 
 
-def one(speed, h, dt_safety, hourglass, mat):
+def one(speed, h, dt_safety, hourglass, mat, window_min=WINDOW_MIN_ELEMENTS):
     fine = max(0.15e-3, 4 * h)
     t = Target(graded_box(0.6e-3, 0.6e-3, h, fine_half_width=fine, fine_depth=max(0.1e-3, 3 * h)))
     shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[[0.0, 0.0, speed]], radius=R, density=7800.0)
     t0 = time.perf_counter()
     try:
-        res = run_impacts(t, mat, shots, Options(dt_safety=dt_safety, hourglass=hourglass))
+        res = run_impacts(t, mat, shots, Options(dt_safety=dt_safety, hourglass=hourglass,
+                                                 window_min_elements=window_min))
     except KernelInstabilityError as err:
         return dict(ok=False, status=STATUS.get(err.status, str(err.status)), wall=time.perf_counter() - t0)
     nnx, nny, _ = t.mesh.shape_nodes
@@ -51,13 +60,59 @@ def one(speed, h, dt_safety, hourglass, mat):
                 e=res.shots["restitution"][0], hg=res.hourglass_ratio, wall=time.perf_counter() - t0)
 
 
+def low(mat) -> None:
+    """1, 2, 5 m/s on every mesh, with the tasks' window minimum and without it (the kernel's own window,
+    a few contact radii: a fraction of an element at 1 m/s)."""
+    one(55.0, 100e-6, 0.9, 0.05, mat)  # JIT warm-up
+    print(f"# low-speed sweep; loadavg {loadavg()}")
+    print("| v m/s | h um | window minimum (elements) | outcome | energy error | restitution | wall s |")
+    print("|---|---|---|---|---|---|---|")
+    for speed, h, wmin in itertools.product((1.0, 2.0, 5.0), (100e-6, 50e-6, 25e-6), (0.0, WINDOW_MIN_ELEMENTS)):
+        r = one(speed, h, 0.9, 0.05, mat, window_min=wmin)
+        outcome = "finished" if r["ok"] else f"stopped: {r['status']}"
+        err = f"{r['err']:.4f}" if r["ok"] else ""
+        e = f"{r['e']:.3f}" if r["ok"] else ""
+        print(f"| {speed:g} | {h*1e6:g} | {wmin:g} | {outcome} | {err} | {e} | {r['wall']:.1f} |", flush=True)
+
+
+def dense(n_full: int = 59) -> None:
+    """The micro study's target REV (Al 7075-T73, 45 m/s, 1.2 mm, 100 um) at 1000 % coverage
+    (10 x its N_f = 59 shots), three seeds; and the 10 000 % case that ran away (issue 12)."""
+    from pathlib import Path
+
+    from peenflow.fe.safety import KernelInstabilityError as KIE
+    from peenflow.study import load_study
+    from tasks._rev_run import run_rev
+    from tasks.pipeline import fidelity_params, material_params
+
+    s = load_study(Path(__file__).resolve().parents[1] / "tests" / "tasks" / "micro.toml")
+    shot = {"radius_m": s.shot.radius_m, "density_kg_m3": s.shot.density_kg_m3, "friction": 0.2}
+    fid, mat = fidelity_params(s.fidelity), material_params(s.target.material)
+    print(f"# dense sequences on the micro target REV, N_f = {n_full}; loadavg {loadavg()}")
+    print("| coverage % | shots | seed | outcome | largest energy error | mean | largest hourglass peak | wall s |")
+    print("|---|---|---|---|---|---|---|---|")
+    for pct, seeds in ((1000, (1, 2, 3)), (10000, (1,))):
+        n = int(round(n_full * pct / 100))
+        for seed in seeds:
+            t0 = time.perf_counter()
+            try:
+                ds = run_rev(None, material=mat, shot=shot, fidelity=fid, side_m=1.2e-3, measure_side_m=0.4e-3,
+                             thickness_m=1e-3, angle_deg=90.0, velocity_m_s=45.0, seed=seed, ladder=[n])
+                e = ds.energy_error.values
+                print(f"| {pct} | {n} | {seed} | finished | {e.max():.4f} | {e.mean():.4f} | "
+                      f"{ds.hourglass_peak.values.max():.2f} | {time.perf_counter() - t0:.0f} |", flush=True)
+            except KIE as err:
+                print(f"| {pct} | {n} | {seed} | stopped at shot {err.shot_index}: {STATUS.get(err.status)} | | | | "
+                      f"{time.perf_counter() - t0:.0f} |", flush=True)
+
+
 def main(quick: bool) -> None:
     mat = Material(**SAE1070)
     if quick:
         grid = list(itertools.product((55.0, 200.0), (50e-6, 25e-6), (0.5, 0.9, 1.0), (0.05,)))
     else:
-        grid = list(itertools.product((25.0, 55.0, 100.0, 200.0, 400.0), (100e-6, 50e-6, 25e-6), (0.5, 0.9, 1.0),
-                                      (0.02, 0.05, 0.15)))
+        grid = list(itertools.product((1.0, 2.0, 5.0, 25.0, 55.0, 100.0, 200.0, 400.0), (100e-6, 50e-6, 25e-6),
+                                      (0.5, 0.9, 1.0), (0.02, 0.05, 0.15)))
     one(55.0, 100e-6, 0.9, 0.05, mat)  # JIT warm-up
     print(f"# stability sweep, {len(grid)} cases; loadavg {loadavg()}")
     print("| v m/s | h um | dt_safety | Q_hg | outcome | energy error | dent um | restitution | hourglass / internal | wall s |")
@@ -79,4 +134,10 @@ def main(quick: bool) -> None:
 
 
 if __name__ == "__main__":
-    main(quick=len(sys.argv) > 1 and sys.argv[1] == "quick")
+    mode = sys.argv[1] if len(sys.argv) > 1 else ""
+    if mode == "low":
+        low(Material(**SAE1070))
+    elif mode == "dense":
+        dense()
+    else:
+        main(quick=mode == "quick")

@@ -9,7 +9,10 @@ the unrelaxed state) and reduced to depth profiles averaged over the
 measuring region.  The kernel state and the profiles already made are
 checkpointed at every rung and every ``PEENFLOW_CHECKPOINT_EVERY_S``
 seconds (default 30), so a killed run resumes from its last checkpoint with
-the same result it would have had uninterrupted.
+the same result it would have had uninterrupted.  When the user stops the run
+(Ctrl-C, SIGTERM, SIGHUP) it checkpoints after the current shot and stops.
+A checkpoint this run cannot use (another task's, another mesh's, damaged) is
+ignored with a note, never a failure.
 """
 
 from __future__ import annotations
@@ -47,9 +50,14 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
     plastic: dict[int, np.ndarray] = {}
     state = None
     if ctx is not None and (ck := ctx.load_checkpoint()) is not None:
-        state = K.state_from_dataset(ck)
-        for k, n in enumerate(ck.rung.values.tolist()):
-            means[n], spreads[n], plastic[n] = ck.rung_mean.values[k], ck.rung_spread.values[k], ck.rung_plastic.values[k]
+        problem = _unusable(ck, mesh, nz, ladder[-1])
+        if problem:
+            ctx.discard_checkpoint(problem)
+        else:
+            state = K.state_from_dataset(ck)
+            for k, n in enumerate(ck.rung.values.tolist()):
+                means[n], spreads[n], plastic[n] = (ck.rung_mean.values[k], ck.rung_spread.values[k],
+                                                    ck.rung_plastic.values[k])
 
     def checkpoint(state_dict):
         rungs = sorted(means)
@@ -67,6 +75,9 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
         if ctx is None:
             return
         ctx.progress(i + 1, ladder[-1], "shots")
+        if ctx.stop_requested:
+            checkpoint(exporter())
+            ctx.stop(f"after shot {i + 1} of {ladder[-1]}")
         if time.time() - last_save[0] > CHECKPOINT_EVERY_S:
             checkpoint(exporter())
             last_save[0] = time.time()
@@ -120,3 +131,22 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
         attrs={"rev_side_m": side_m, "measure_side_m": measure_side_m, "thickness_m": thickness_m,
                "n_elements": int(mesh.n_elements), "seed": int(seed)},
     )
+
+
+_CHECKPOINT_VARS = ("rung", "rung_mean", "rung_spread", "rung_plastic", "kernel__x", "kernel__shot_index",
+                    "kernel__shot_records")
+
+
+def _unusable(ck: xr.Dataset, mesh, nz: int, last: int) -> str:
+    """Why checkpoint ``ck`` cannot resume this REV run ("" if it can)."""
+    missing = [v for v in _CHECKPOINT_VARS if v not in ck.variables]
+    if missing:
+        return f"it lacks {', '.join(missing)}: written by another task"
+    if ck["kernel__x"].shape != (mesh.n_nodes, 3):
+        return f"its state has {ck['kernel__x'].shape[0]} nodes, this REV {mesh.n_nodes}"
+    if ck["rung_mean"].shape[1:] != (nz, 6):
+        return f"its profiles have {ck['rung_mean'].shape[1]} layers, this REV {nz}"
+    done = int(np.asarray(ck["kernel__shot_index"].values).ravel()[0])
+    if not 0 <= done <= last:
+        return f"it is at shot {done}, beyond this run's {last}"
+    return ""

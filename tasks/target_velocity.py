@@ -31,8 +31,9 @@ class ExtrapolatedIntensity(ValueError):
     """A control-curve point the velocity would be read from is not saturated within its ladder."""
 
 
-def _check_saturated(control: xr.Dataset, angles, velocities) -> None:
-    """Refuse intensities whose eq. (11) saturation point lies beyond the ladder (module docstring)."""
+def _check_saturated(control: xr.Dataset, angles, velocities, context: str = "") -> None:
+    """Refuse intensities whose eq. (11) saturation point lies beyond the ladder (module docstring);
+    ``context`` opens the message (e.g. that the target is outside the curve as well)."""
     if "intensity_extrapolated" not in control:
         return
     bad = []
@@ -47,7 +48,7 @@ def _check_saturated(control: xr.Dataset, angles, velocities) -> None:
                     for a in angles for v in velocities)
         suggest = int(2 ** np.ceil(np.log2(max(2 * t_max, 2 * n_max))))
         raise ExtrapolatedIntensity(
-            f"the control curve is not saturated where the target intensity is read: {'; '.join(bad)} "
+            f"{context}the control curve is not saturated where the target intensity is read: {'; '.join(bad)} "
             f"(largest shot count {n_max:.0f}). An intensity extrapolated beyond the ladder is not an Almen "
             f"intensity (SAE J2597 needs a point at 2 T). Extend almen.shot_counts to about {suggest} shots "
             "(the strip runs then restart from scratch for the new ladder), or set "
@@ -81,15 +82,13 @@ def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | 
     used = (curve.lower.angle_deg, curve.upper.angle_deg) if blended else (curve.angle_deg,)
     grid = control.velocity_m_s.values.astype(float)
     if not i_lo <= target <= i_hi:
+        outside = (f"target intensity {intensity_mm:.4g} mm is outside the control curve at {angle_deg} deg, "
+                   f"which spans {i_lo / MM:.4g}-{i_hi / MM:.4g} mm over {lo:g}-{hi:g} m/s")
         if not allow_extrapolated:
-            # An extrapolated curve's range says nothing about the velocities
-            # needed: the ladder is the problem to report, not the velocities.
-            _check_saturated(control, used, grid)
-        raise IntensityOutOfRange(
-            f"target intensity {intensity_mm:.4g} mm is outside the control curve at {angle_deg} deg, "
-            f"which spans {i_lo / MM:.4g}-{i_hi / MM:.4g} mm over {lo:g}-{hi:g} m/s: add velocities to "
-            "almen.velocities_m_s that bracket it"
-        )
+            # An extrapolated curve's range says little about the velocities
+            # needed: the ladder is the first problem to fix, but say both.
+            _check_saturated(control, used, grid, context=f"{outside}; and ")
+        raise IntensityOutOfRange(f"{outside}: add velocities to almen.velocities_m_s that bracket it")
     v = float(curve.velocity(target))
     if not allow_extrapolated:
         bracket = sorted({float(grid[grid <= v].max()), float(grid[grid >= v].min())})

@@ -66,7 +66,10 @@ def dmin(impact: xr.Dataset, *, material: dict, shot: dict, fidelity: dict, angl
     upper = float(np.clip(upper, lower + resolution_m, max_distance_m))
     done: dict[float, bool] = {}
     if ctx is not None and (ck := ctx.load_checkpoint()) is not None:
-        done = {float(d): bool(o) for d, o in zip(ck.distance_m.values, ck.overlap.values)}
+        if "distance_m" in ck.variables and "overlap" in ck.variables:
+            done = {float(d): bool(o) for d, o in zip(ck.distance_m.values, ck.overlap.values)}
+        else:
+            ctx.discard_checkpoint("it has no distance_m/overlap: written by another task")
     threads = ctx.threads if ctx else 1
 
     def overlaps(d: float) -> bool:
@@ -81,6 +84,8 @@ def dmin(impact: xr.Dataset, *, material: dict, shot: dict, fidelity: dict, angl
                 ctx.save_checkpoint(xr.Dataset({"overlap": ("run", [int(done[k]) for k in ds_])},
                                                coords={"distance_m": ("run", ds_)}))
                 ctx.progress(len(done), None, "two-shot runs", f"d = {d * 1e3:.3f} mm")
+                if ctx.stop_requested:
+                    ctx.stop(f"after two-shot run {len(done)} (d = {d * 1e3:.3f} mm)")
         return done[key]
 
     if method == "scan":

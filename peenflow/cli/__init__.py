@@ -43,6 +43,12 @@ def main(argv: list[str] | None = None) -> int:
     except UserError as exc:
         print(f"peenflow {args.verb}: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:  # the environment: read-only or full disk, a path that is a file, ...
+        if isinstance(exc, BrokenPipeError):
+            return 0
+        where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
+        print(f"peenflow {args.verb}: {exc.strerror or exc}{where}", file=sys.stderr)
+        return 2
     except BrokenPipeError:  # output piped into `head`
         return 0
     except KeyboardInterrupt:

@@ -25,6 +25,9 @@ def load(args) -> tuple[Graph, DirectoryStore]:
     except ValueError as exc:  # StudyError, StudyFileError: messages written for users
         raise UserError(str(exc)) from None
     store = DirectoryStore(args.store if args.store else default_store_path(path))
+    if store.root.exists() and not store.root.is_dir():
+        raise UserError(f"the store path {store.root} is a file, not a directory; pass --store DIR "
+                        "(or set $PEENFLOW_STORE) to a directory")
     return graph, store
 
 

@@ -6,6 +6,7 @@ import argparse
 
 from ..engine import Reporter, SchedulerUnreachable, execute
 from ._common import UserError, add_study, load, stage_nodes
+from ._interrupts import stop_on_signals
 from .status import print_plan
 
 NAME = "run"
@@ -46,13 +47,18 @@ def execute_and_report(args, graph, store, nodes, forced=frozenset()) -> int:
     reporter.line(f"study {graph.name}: {len(nodes)} points, store {store.root}")
     workers = args.workers or graph.execution.get("workers")
     threads = args.threads or graph.execution.get("threads")
-    try:
-        outcomes = execute(graph, store, nodes, forced=set(forced), scheduler=args.scheduler,
-                           workers=workers, threads=threads, reporter=reporter)
-    except SchedulerUnreachable as exc:
-        raise UserError(str(exc)) from None
+    with stop_on_signals() as stopped:
+        try:
+            outcomes = execute(graph, store, nodes, forced=set(forced), scheduler=args.scheduler,
+                               workers=workers, threads=threads, reporter=reporter)
+        except SchedulerUnreachable as exc:
+            raise UserError(str(exc)) from None
     reporter.line("")
     reporter.line(reporter.summary())
+    if stopped["signal"] is not None:
+        reporter.line("interrupted: finished results and the checkpoints of stopped points are kept; "
+                      "run again to resume")
+        return 128 + stopped["signal"]
     print_headline(graph, store, reporter.line)
     for report in graph.reports:
         try:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections import Counter
 
 from ..engine import plan
+from ..engine.lease import verdict
 from ._common import add_study, load
 
 NAME = "status"
@@ -39,7 +40,10 @@ def print_plan(graph, store, nodes, forced=frozenset(), why=False) -> list:
     if leases:
         print("leases:")
         for info in leases:
-            print(f"  {info.key[:12]}  {info.describe()}")
+            alive, why = verdict(info)
+            state = {True: "alive", False: "dead (the next run or `peenflow unlock --all` removes it)",
+                     None: "another host"}[alive]
+            print(f"  {info.key[:12]}  {info.describe()}  [{state}: {why}]")
     return items
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..engine.lease import verdict
 from ._common import UserError, add_study, load
 
 NAME = "unlock"
@@ -20,16 +21,19 @@ def main(args) -> int:
     leases = store.leases.all()
     if not args.keys and not args.all:
         for info in leases:
-            print(f"{info.key}  {info.describe()}")
+            alive, why = verdict(info)
+            state = {True: "alive", False: "dead", None: "another host"}[alive]
+            print(f"{info.key}  {info.describe()}  [{state}: {why}]")
         print(f"{len(leases)} lease(s); pass keys or --all to remove")
         return 0
     chosen = leases if args.all else [i for i in leases if any(i.key.startswith(k) for k in args.keys)]
     if args.keys and not chosen:
         raise UserError(f"no lease matches {', '.join(args.keys)}")
     for info in chosen:
-        if info.holder_alive and not args.force:
-            print(f"kept {info.key}: holder pid {info.pid} is alive on this host (use --force)")
+        alive, why = verdict(info)
+        if alive and not args.force:
+            print(f"kept {info.key}: {info.describe()}: {why} (use --force)")
             continue
         store.leases.unlock(info.key)
-        print(f"removed {info.key} ({info.describe()})")
+        print(f"removed {info.key} ({info.describe()}{'; ' + why if alive is False else ''})")
     return 0

@@ -12,7 +12,8 @@ It knows nothing about shot peening.  Pieces, one module each:
 * ``store``       the directory store of netCDF results + manifests
 * ``lease``       per-key leases (mkdir, heartbeat, unlock)
 * ``checkpoint``  intermediate state of long tasks
-* ``context``     what a running task may ask (progress, checkpoints)
+* ``context``     what a running task may ask (progress, checkpoints, whether to stop)
+* ``interrupt``   the per-process stop request (Ctrl-C, SIGTERM, SIGHUP)
 * ``runner``      running one point
 * ``planner``     status / dry-run without computing
 * ``executor``    dask local or distributed execution

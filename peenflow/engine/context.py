@@ -13,6 +13,7 @@ import time
 import xarray as xr
 
 from .checkpoint import Checkpoints
+from .interrupt import Interrupted, stop_requested
 
 
 class TaskContext:
@@ -21,7 +22,9 @@ class TaskContext:
     Attributes: ``key`` (result key), ``point`` (e.g. ``strip_runs[angle_deg=45]``),
     ``threads`` (compute threads this task may use without oversubscribing the
     machine; the first read draws them from the run's core budget, see
-    cores.py), ``resumed`` (True when a checkpoint was found at start).
+    cores.py), ``resumed`` (True when a checkpoint was found at start),
+    ``notes`` (what the task wants the run's report to say, e.g. that it
+    ignored an unusable checkpoint).
     """
 
     PROGRESS_INTERVAL_S = 1.0
@@ -39,6 +42,7 @@ class TaskContext:
         self._started = time.time()
         self._progress_base: tuple[float, float] | None = None
         self.resumed = self._checkpoints.exists()
+        self.notes: list[str] = []
 
     @property
     def threads(self) -> int:
@@ -79,3 +83,19 @@ class TaskContext:
 
     def clear_checkpoint(self) -> None:
         self._checkpoints.clear()
+
+    def discard_checkpoint(self, why: str) -> None:
+        """Drop a checkpoint the task cannot use (another task's, or damaged) and say so; start afresh."""
+        self._checkpoints.clear()
+        self.resumed = False
+        self.notes.append(f"ignored an unusable checkpoint ({why}); started from the beginning")
+
+    @property
+    def stop_requested(self) -> bool:
+        """True once the user asked the run to stop (Ctrl-C, SIGTERM, SIGHUP): save a checkpoint, then
+        call :meth:`stop`."""
+        return stop_requested()
+
+    def stop(self, where: str) -> None:
+        """Raise :class:`Interrupted` (after the task saved its checkpoint); ``where``: e.g. "after shot 12 of 40"."""
+        raise Interrupted(where)

@@ -19,11 +19,15 @@ which records its own failures, so a failed point never stops the others.
 from __future__ import annotations
 
 import os
+import socket
 import threading
+import time
+import uuid
 from pathlib import Path
 
 from .cores import CoreBudget, set_active_budget, wanted_threads
 from .graph import Graph, Group, Node
+from .lease import STALE_AFTER_S
 from .report import Reporter
 from .runner import Outcome, PointSpec, UpstreamRef, run_node
 from .store import DirectoryStore
@@ -101,6 +105,37 @@ def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: s
     """Run ``nodes`` (an ancestor-closed subset of ``graph``, in graph order)."""
     reporter = reporter or Reporter()
     Path(store.root).mkdir(parents=True, exist_ok=True)
+    registration = register_run(store, graph.name)
+    try:
+        return _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter, progress_every_s)
+    finally:
+        if registration is not None:
+            registration.release()
+
+
+CLEAN_WAIT_S = 0.2
+
+
+def register_run(store: DirectoryStore, study: str):
+    """Announce a live run in ``runs/`` (``clean`` spares what it writes), then wait for a running
+    ``clean`` to finish.  Registering first closes the race: a clean that starts later sees this run.
+    None on a read-only store (nothing can be written there anyway)."""
+    try:
+        lease = store.runs.try_acquire(f"{socket.gethostname()}.{os.getpid()}.{uuid.uuid4().hex[:8]}", study)
+        for other in store.runs.all():  # records of killed runs: nothing else removes them
+            store.runs.break_if_dead(other.key)
+    except OSError:
+        return None
+    while True:
+        info, alive, _ = store.locks.verdict("clean")
+        # another host's clean silent for a minute is not deleting any more: do not wait the 10 minutes
+        # its lease takes to count as dead (a clean that starts later sees this run anyway)
+        if info is None or alive is False or (alive is None and info.heartbeat_age_s > STALE_AFTER_S):
+            return lease
+        time.sleep(CLEAN_WAIT_S)
+
+
+def _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter, progress_every_s):
     cores = available_cores()
     budget = None
     if scheduler is None:
@@ -149,7 +184,7 @@ def _run_distributed(dsk, keys, address, reporter) -> list[Outcome]:
 
     try:
         client = Client(address, timeout=f"{SCHEDULER_TIMEOUT_S:g}s")
-    except (OSError, TimeoutError, ValueError) as exc:
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:  # unreachable, refused, malformed
         raise SchedulerUnreachable(
             f"cannot reach the dask scheduler at {address} within {SCHEDULER_TIMEOUT_S:g} s "
             f"({type(exc).__name__}): check that `dask scheduler` runs there, that the address and port are "

@@ -15,9 +15,9 @@ from __future__ import annotations
 import importlib
 import importlib.machinery
 import sys
-import tomllib
 from pathlib import Path
 
+from .._toml import TomlFileError, load_toml
 from .graph import Graph
 
 
@@ -27,14 +27,14 @@ class StudyFileError(ValueError):
 
 def read_study_table(path: Path) -> dict:
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise StudyFileError(f"study file {path} does not exist")
     try:
-        with open(path, "rb") as f:
-            data = tomllib.load(f)
-    except tomllib.TOMLDecodeError as exc:
-        raise StudyFileError(f"{path}: not valid TOML: {exc}") from exc
-    return data
+        return load_toml(path)
+    except TomlFileError as exc:
+        raise StudyFileError(str(exc)) from None
+    except OSError as exc:
+        raise StudyFileError(f"cannot read study file {path}: {exc.strerror or exc}") from None
 
 
 def resolve_pipeline(entry: str):

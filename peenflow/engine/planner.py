@@ -91,12 +91,18 @@ def plan(graph: Graph, store: DirectoryStore, nodes: list[Node] | None = None,
         if store.checkpoint_dir(key).exists() and not is_forced:
             reason, detail = Reason.INCOMPLETE, "checkpoint present; will resume from it"
         state = State.PENDING
-        lease = store.leases.info(key)
-        if lease is not None and lease.holder_alive is not False and (
-                lease.holder_alive or lease.heartbeat_age_s < STALE_AFTER_S):
+        # The runner's rule (lease.verdict): running while the holder lives; another host's lease
+        # without a recent heartbeat blocks; a dead one is broken by the next run.
+        lease, alive, why = store.leases.verdict(key)
+        if lease is not None and (alive or (alive is None and lease.heartbeat_age_s <= STALE_AFTER_S)):
             state = State.RUNNING
             detail = lease.describe()
+        elif lease is not None and alive is None:
+            state = State.BLOCKED
+            detail = f"{lease.describe()}; if that run is dead, run `peenflow unlock`"
         else:
+            if lease is not None:
+                detail = f"{detail}; dead lease ({why}): the next run breaks it"
             failure = store.failure(task.name, key)
             if failure is not None:
                 state = State.FAILED

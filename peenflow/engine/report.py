@@ -24,7 +24,7 @@ from datetime import datetime, timezone
 
 from .runner import Outcome
 
-SYMBOL = {"computed": "+", "reused": "=", "failed": "!", "skipped": "-", "blocked": "#"}
+SYMBOL = {"computed": "+", "reused": "=", "failed": "!", "skipped": "-", "blocked": "#", "interrupted": "x"}
 
 
 def duration(seconds: float | None) -> str:
@@ -197,6 +197,8 @@ class Reporter:
             rows[o.stage][o.status] += 1
             wall[o.stage] += o.wall_s
         cols = ["computed", "reused", "failed", "skipped", "blocked"]
+        if any(o.status == "interrupted" for o in self.outcomes):
+            cols.append("interrupted")
         width = max([len(s) for s in order] + [5])
         out = [f"{'stage':{width}s}  points " + " ".join(f"{c:>8s}" for c in cols) + "   compute s"]
         for s in order:
@@ -207,7 +209,8 @@ class Reporter:
         out.append(f"{'(all)':{width}s}  {len(self.outcomes):6d} " + " ".join(f"{total[c]:8d}" for c in cols)
                    + f"   {sum(wall.values()):9.1f}")
         out.append(f"wall time {time.time() - self.started:.1f} s")
-        problems = [o for o in self.outcomes if o.status in ("failed", "blocked")]
+        problems = [o for o in self.outcomes if o.status in ("failed", "blocked")
+                    or (o.status == "interrupted" and o.key is not None)]
         if problems:
             out.append("")
             out.append("not finished:")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 import os
 import platform
+import shutil
 import socket
 import sys
 import time
@@ -28,6 +29,7 @@ from .combine import combine_points
 from .context import TaskContext
 from .conventions import conform, squeeze_point
 from .cores import active_budget
+from .interrupt import Interrupted, stop_reason, stop_requested
 from .keys import KeyParts, reason_against_slot
 from .lease import STALE_AFTER_S
 from .reasons import Reason
@@ -72,7 +74,7 @@ class Outcome:
     coords: dict
     task: str
     key: str | None
-    status: str  # computed | reused | failed | skipped | blocked
+    status: str  # computed | reused | failed | skipped | blocked | interrupted
     reason: str
     detail: str = ""
     content_hash: str | None = None
@@ -80,6 +82,7 @@ class Outcome:
     error: str = ""
     stale: bool = False
     upstream_keys: dict = field(default_factory=dict)
+    trace: str = ""  # the traceback of a failure (kept in the failure record, never printed by default)
 
     @property
     def ok(self) -> bool:
@@ -138,10 +141,12 @@ def run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
         return _run_node(spec, ups)
     except Exception as exc:  # engine-level failure: still report, never lose the others
         return _outcome(spec, None, "failed", "engine error", f"{type(exc).__name__}: {exc}",
-                        error=traceback.format_exc())
+                        error=f"{type(exc).__name__}: {exc}", trace=traceback.format_exc())
 
 
 def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
+    if stop_requested():
+        return _outcome(spec, None, "interrupted", "not started", stop_reason())
     bad = [u for u in ups if not u.ok]
     if bad:
         return _outcome(spec, None, "skipped", "upstream failed",
@@ -160,11 +165,19 @@ def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
     else:
         reason, detail = reason_against_slot(slot, task.name, code, spec.params, up_hashes)
 
+    notes: list[str] = []
+
     def reuse(manifest) -> Outcome:
         stale = task.version is not None and manifest.source_hash != task.source_hash()
-        _record_slot(store, spec, parts, "done", manifest.source_hash)
+        if not _slot_says_done(slot, key, manifest.source_hash):
+            try:
+                _record_slot(store, spec, parts, "done", manifest.source_hash)
+            except OSError:
+                pass  # a read-only store: the slot only serves `status --why`; the result is what counts
+        _tidy_after_finished(store, task.name, key, notes)
+        detail = f"code changed under version {task.version}" if stale else ""
         return _outcome(spec, key, "reused", Reason.STALE if stale else Reason.UP_TO_DATE,
-                        f"code changed under version {task.version}" if stale else "",
+                        _join(detail, *notes),
                         content_hash=manifest.content_hash, stale=stale, upstream_keys=upstream_keys)
 
     manifest, problem = store.check(task.name, key)
@@ -179,13 +192,17 @@ def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
         lease = store.leases.try_acquire(key, f"{spec.study}:{spec.node_id}")
         if lease is not None:
             break
-        if store.leases.break_if_dead(key):
+        broke = store.leases.break_if_dead(key)
+        if broke:
+            notes.append(broke)
             continue
-        info = store.leases.info(key)
-        if info is not None and info.holder_alive is None and info.heartbeat_age_s > STALE_AFTER_S:
+        info, alive, _ = store.leases.verdict(key)
+        if info is not None and alive is None and info.heartbeat_age_s > STALE_AFTER_S:
             return _outcome(spec, key, "blocked", "lease held elsewhere",
                             f"{info.describe()}; if that run is dead, run `peenflow unlock`",
                             upstream_keys=upstream_keys)
+        if stop_requested():
+            return _outcome(spec, key, "interrupted", "not started", stop_reason(), upstream_keys=upstream_keys)
         waited_for_other = True
         time.sleep(LEASE_POLL_S)
 
@@ -196,7 +213,37 @@ def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
                 return reuse(manifest)
         if problem not in ("missing", "") and not spec.forced:
             store.discard(task.name, key)  # damaged: never trusted, recomputed below
+        if notes:
+            detail = _join(detail, *notes)
         return _compute(task, store, spec, ups, parts, reason, detail, upstream_keys)
+
+
+def _join(*parts: str) -> str:
+    return "; ".join(p for p in parts if p)
+
+
+def _slot_says_done(slot: dict | None, key: str, source_hash: str) -> bool:
+    return isinstance(slot, dict) and slot.get("key") == key and slot.get("state") == "done" \
+        and slot.get("source_hash") == source_hash
+
+
+def _tidy_after_finished(store: DirectoryStore, task: str, key: str, notes: list[str]) -> None:
+    """Remove what a run killed right after storing ``key`` left behind: its dead lease, its
+    checkpoint (one older than the result: a killed *rerun*'s newer checkpoint is kept for the next
+    rerun) and progress record; never while a live run holds the key."""
+    try:
+        broke = store.leases.break_if_dead(key)
+        if broke:
+            notes.append(broke)
+        if store.leases.info(key) is not None:
+            return
+        ck = store.checkpoint_dir(key)
+        if ck.exists() and _checkpoint_predates_result(store, task, key):
+            shutil.rmtree(ck, ignore_errors=True)
+            notes.append("removed the checkpoint a finished run left behind")
+        store.clear_progress(key)
+    except OSError:
+        pass  # a read-only store: nothing we may tidy
 
 
 def _record_slot(store, spec, parts: KeyParts, state: str, source_hash: str, **extra) -> None:
@@ -222,8 +269,12 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
     source_hash = task.source_hash()
     if ctx.resumed and reason is not Reason.FORCED:
         reason, detail = Reason.INCOMPLETE, "resuming from checkpoint"
-    elif reason is Reason.FORCED:
-        ctx.clear_checkpoint()
+    elif reason is Reason.FORCED and ctx.resumed:
+        if _checkpoint_predates_result(store, task.name, key):
+            ctx.clear_checkpoint()  # left by the run that made the result: not this rerun's work
+            ctx.resumed = False
+        else:  # a killed rerun of the same inputs: go on from where it stopped
+            detail = f"{detail}; resuming its own checkpoint"
     started = time.time()
     try:
         blas_threads = pin_blas_threads()  # same on a dask worker as here: bit-identical results
@@ -266,20 +317,42 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
         })
         manifest = store.write_result(task.name, key, result, parts.to_dict(), source_hash,
                                       replace=spec.forced)
+    except Interrupted as exc:
+        # Not a failure: the task saved a checkpoint; the next run resumes from it.
+        store.clear_progress(key)
+        return _outcome(spec, key, "interrupted", reason, f"stopped {exc}; checkpoint saved, run again to resume",
+                        wall_s=time.time() - started, upstream_keys=upstream_keys)
     except Exception as exc:
         tb = traceback.format_exc()
-        store.write_failure(task.name, key, {
-            "node_id": spec.node_id, "study": spec.study, "error": f"{type(exc).__name__}: {exc}",
-            "traceback": tb, "host": socket.gethostname(), "time": time.time(),
-            "python": sys.version.split()[0],
-        })
-        _record_slot(store, spec, parts, "failed", source_hash, error=f"{type(exc).__name__}: {exc}")
-        store.clear_progress(key)
-        return _outcome(spec, key, "failed", reason, detail, error=f"{type(exc).__name__}: {exc}",
-                        wall_s=time.time() - started, upstream_keys=upstream_keys)
+        error = f"{type(exc).__name__}: {exc}"
+        try:
+            store.write_failure(task.name, key, {
+                "node_id": spec.node_id, "study": spec.study, "error": error,
+                "traceback": tb, "host": socket.gethostname(), "time": time.time(),
+                "python": sys.version.split()[0],
+            })
+            _record_slot(store, spec, parts, "failed", source_hash, error=error)
+            store.clear_progress(key)
+        except OSError as exc2:  # disk full or read-only: the outcome still says what failed
+            error = f"{error} (and the failure record could not be written: {exc2})"
+        return _outcome(spec, key, "failed", reason, _join(detail, *ctx.notes), error=error,
+                        wall_s=time.time() - started, upstream_keys=upstream_keys, trace=tb)
     ctx.clear_checkpoint()
     store.clear_progress(key)
     store.clear_failure(task.name, key)
     _record_slot(store, spec, parts, "done", source_hash)
-    return _outcome(spec, key, "computed", reason, detail, content_hash=manifest.content_hash,
-                    wall_s=time.time() - started, upstream_keys=upstream_keys)
+    return _outcome(spec, key, "computed", reason, _join(detail, *ctx.notes),
+                    content_hash=manifest.content_hash, wall_s=time.time() - started, upstream_keys=upstream_keys)
+
+
+def _checkpoint_predates_result(store: DirectoryStore, task: str, key: str) -> bool:
+    """True when ``key`` has a valid result written after its checkpoint (a leftover of that run)."""
+    manifest, _ = store.check(task, key)
+    if manifest is None:
+        return False
+    try:
+        ck = store.checkpoint_dir(key)
+        newest = max(p.stat().st_mtime for p in ck.iterdir())
+        return newest <= store.manifest_path(task, key).stat().st_mtime
+    except (OSError, ValueError):
+        return True

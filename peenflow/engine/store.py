@@ -15,10 +15,14 @@ Layout under the store root::
     checkpoints/<key>/          intermediate state of a long task
     progress/<key>.json         progress of a running task
     leases/<key>/               see lease.py
+    runs/<host>.<pid>.<id>/     one per live run (a lease without a key): what ``clean`` must respect
+    locks/clean/                held while ``clean`` deletes; a run starting meanwhile waits for it
 
 A result whose file is missing, truncated or altered (size or SHA-256 differ
-from the manifest) is never trusted: the planner treats it as incomplete and
-recomputes it.
+from the manifest), or whose manifest's content hash is not the hash of the
+file's content (an altered manifest would otherwise silently change every
+downstream key), is never trusted: the planner treats it as incomplete and
+recomputes it.  The content is hashed once per file version and process.
 """
 
 from __future__ import annotations
@@ -75,6 +79,10 @@ class DirectoryStore:
     def __init__(self, root: str | os.PathLike):
         self.root = Path(root).resolve()
         self.leases = LeaseTable(self.root / "leases")
+        #: one entry per live ``execute`` (so ``clean`` leaves alone what a running run writes)
+        self.runs = LeaseTable(self.root / "runs")
+        #: store-wide locks of destructive verbs (``clean``)
+        self.locks = LeaseTable(self.root / "locks")
         self._verified: dict[tuple, bool] = {}
 
     # -- paths ----------------------------------------------------------------
@@ -99,12 +107,15 @@ class DirectoryStore:
     # -- results --------------------------------------------------------------
     def manifest(self, task: str, key: str) -> Manifest | None:
         data = read_json(self.manifest_path(task, key))
-        if data is None:
+        if not isinstance(data, dict):
             return None
         try:
-            return Manifest(**data)
+            m = Manifest(**data)
         except TypeError:
             return None
+        if not isinstance(m.file_bytes, int) or not isinstance(m.content_hash, str):
+            return None
+        return m
 
     def check(self, task: str, key: str) -> tuple[Manifest | None, str]:
         """(manifest, "") for a valid result; (None, problem) otherwise."""
@@ -120,12 +131,26 @@ class DirectoryStore:
         st = path.stat()
         if st.st_size != m.file_bytes:
             return None, f"result file is {st.st_size} bytes, expected {m.file_bytes} (truncated?)"
-        stamp = (str(path), st.st_mtime_ns, st.st_size, m.file_sha256)
+        stamp = (str(path), st.st_mtime_ns, st.st_size, m.file_sha256, m.content_hash)
         if stamp not in self._verified:
-            self._verified[stamp] = file_sha256(path) == m.file_sha256
-        if not self._verified[stamp]:
-            return None, "result file checksum does not match its manifest (corrupted)"
+            self._verified[stamp] = self._verify(path, m)
+        problem = self._verified[stamp]
+        if problem:
+            return None, problem
         return m, ""
+
+    @staticmethod
+    def _verify(path: Path, m: Manifest) -> str:
+        """"" when the file matches its manifest (SHA-256 and content hash), else the problem."""
+        if file_sha256(path) != m.file_sha256:
+            return "result file checksum does not match its manifest (corrupted)"
+        try:
+            content = dataset_content_hash(read_dataset(path))
+        except (OSError, ValueError, RuntimeError, KeyError) as exc:
+            return f"result file cannot be read ({type(exc).__name__}: {exc})"
+        if content != m.content_hash:
+            return "manifest content hash does not match the file's content (manifest altered)"
+        return ""
 
     def write_result(self, task: str, key: str, ds: xr.Dataset, parts: dict, source_hash: str,
                      replace: bool = False) -> Manifest:
@@ -181,7 +206,8 @@ class DirectoryStore:
         write_json_atomic(self.failure_path(task, key), record)
 
     def failure(self, task: str, key: str) -> dict | None:
-        return read_json(self.failure_path(task, key))
+        rec = read_json(self.failure_path(task, key))
+        return rec if isinstance(rec, dict) else None
 
     def clear_failure(self, task: str, key: str) -> None:
         self.failure_path(task, key).unlink(missing_ok=True)
@@ -190,7 +216,8 @@ class DirectoryStore:
         write_json_atomic(self.slot_path(study, stage, label), record)
 
     def slot(self, study: str, stage: str, label: str) -> dict | None:
-        return read_json(self.slot_path(study, stage, label))
+        rec = read_json(self.slot_path(study, stage, label))
+        return rec if isinstance(rec, dict) and isinstance(rec.get("parts", {}), dict) else None
 
     def slots(self):
         """Every slot record of every study in the store."""
@@ -199,14 +226,21 @@ class DirectoryStore:
             return
         for p in sorted(base.glob("*/*/*.json")):
             rec = read_json(p)
-            if rec is not None:
+            if isinstance(rec, dict):
                 yield p, rec
 
     def write_progress(self, key: str, record: dict) -> None:
         write_json_atomic(self.progress_path(key), record)
 
     def progress(self, key: str) -> dict | None:
-        return read_json(self.progress_path(key))
+        """The progress record of ``key``, or None (also for a damaged one: progress is only shown)."""
+        rec = read_json(self.progress_path(key))
+        if not isinstance(rec, dict):
+            return None
+        number = lambda v: isinstance(v, (int, float)) and not isinstance(v, bool)  # noqa: E731
+        if not number(rec.get("done")) or not (rec.get("total") is None or number(rec.get("total"))):
+            return None
+        return rec
 
     def clear_progress(self, key: str) -> None:
         self.progress_path(key).unlink(missing_ok=True)

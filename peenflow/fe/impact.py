@@ -96,6 +96,10 @@ class Options:
     bulk_linear, bulk_quadratic : bulk-viscosity coefficients.
     window : integrate only an active window around each impact.
     window_lateral, window_depth : window half width / depth in estimated contact radii.
+    window_min_elements : the window's half width and depth are at least this many fine
+      elements (0 = no minimum). A slow impact's contact radius can be a fraction of an
+      element: a window of one element between held faces blew up (NaN) at 1 m/s on
+      100 um elements; 3 elements run it with the energy balance closed to 1.7 %.
     window_sponge : absorbing layer along the held window faces, as a fraction
       of the window's smaller extent (half width or depth); 0 = none.
     sponge_damping : its peak damping rate, x c_dilatational / layer thickness.
@@ -152,6 +156,7 @@ class Options:
     window: bool = True
     window_lateral: float = 4.0
     window_depth: float = 4.0
+    window_min_elements: float = 0.0
     window_sponge: float = 0.0
     window_boundary: str = "held"
     boundary_spring: float = 1.0
@@ -185,7 +190,8 @@ class Options:
             ("dt_safety", 0.0, False, 1.0), ("friction", 0.0, True, None), ("hourglass", 0.0, True, None),
             ("hourglass_plastic_floor", 0.0, False, 1.0), ("bulk_linear", 0.0, True, None),
             ("bulk_quadratic", 0.0, True, None), ("window_lateral", 0.0, False, None),
-            ("window_depth", 0.0, False, None), ("window_sponge", 0.0, True, 1.0),
+            ("window_depth", 0.0, False, None), ("window_min_elements", 0.0, True, None),
+            ("window_sponge", 0.0, True, 1.0),
             ("boundary_spring", 0.0, True, None), ("boundary_dashpot", 0.0, True, None),
             ("boundary_slab", 0.0, True, None), ("sponge_damping", 0.0, True, None),
             ("settle_damping", 0.0, False, None), ("rest_ke_fraction", 0.0, False, None),
@@ -314,7 +320,7 @@ def _periodic_shift(model: Model, shot: np.ndarray, vel: np.ndarray, shots: Shot
                 f"periodic target: the period along {'xy'[a]} ({L:.4g} m) is too short for the shot's contact "
                 f"zone (2 x {contact[a]:.4g} m: 1.25 R + tangential travel + 2 elements each side)")
     if options.window:
-        lat = options.window_lateral * a_est
+        lat = max(options.window_lateral * a_est, options.window_min_elements * float(np.min(np.diff(model.mesh.z))))
         reach = [(lat + max(-travel[a], 0.0), lat + max(travel[a], 0.0)) for a in (0, 1)]
         reach = [(max(lo, c), max(hi, c)) for (lo, hi), c in zip(reach, contact)]
     else:
@@ -423,12 +429,13 @@ def run_impacts(
             hit_xy = shot[0:2] + vel[0:2] * (t_hit - t_fly)
             if options.window:
                 travel = 1.5 * t_est * vel[0:2]
-                lat = options.window_lateral * a_est
+                h_min = options.window_min_elements * float(np.min(np.diff(model.mesh.z)))
+                lat = max(options.window_lateral * a_est, h_min)
                 win = model.window_box(
                     hit_xy[0], hit_xy[1],
                     (lat + max(-travel[0], 0.0), lat + max(travel[0], 0.0)),
                     (lat + max(-travel[1], 0.0), lat + max(travel[1], 0.0)),
-                    options.window_depth * a_est,
+                    max(options.window_depth * a_est, h_min),
                 )
             else:
                 win = model.full_window

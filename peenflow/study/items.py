@@ -28,7 +28,7 @@ class JohnsonCook(StudyModel):
     A_MPa: Positive = Field(description="initial yield stress A in MPa")
     B_MPa: NonNegative = Field(description="hardening modulus B in MPa")
     C: NonNegative = Field(description="strain-rate sensitivity C (dimensionless)")
-    n: NonNegative = Field(description="hardening exponent n")
+    n: Positive = Field(description="hardening exponent n (> 0: the kernel's hardening slope B n eps^(n-1) needs it)")
     m: NonNegative = Field(0.0, description="thermal-softening exponent m (0 = no thermal term)")
     reference_strain_rate_1_s: Positive = Field(1.0, description="reference strain rate in 1/s")
     room_temperature_K: Optional[Positive] = Field(None, description="room temperature in K (needed when m != 0)")
@@ -42,14 +42,15 @@ class JohnsonCook(StudyModel):
                     f"johnson_cook.m = {self.m!r} is not 0, so room_temperature_K and "
                     "melt_temperature_K are required"
                 )
-        if (
-            self.room_temperature_K is not None
-            and self.melt_temperature_K is not None
-            and self.melt_temperature_K <= self.room_temperature_K
-        ):
+        # The kernel fills a missing temperature (293 K room, 1793 K melt), starts every run at 293 K and
+        # refuses a melt temperature at or below either.
+        room = self.room_temperature_K if self.room_temperature_K is not None else 293.0
+        melt = self.melt_temperature_K if self.melt_temperature_K is not None else 1793.0
+        if melt <= max(room, 293.0):
             raise ValueError(
-                f"johnson_cook.melt_temperature_K = {self.melt_temperature_K!r} must be above "
-                f"room_temperature_K = {self.room_temperature_K!r}"
+                f"johnson_cook.melt_temperature_K = {melt!r} must be above "
+                f"room_temperature_K = {room!r} and the initial temperature of every run, 293 K (a temperature "
+                "not given is 293 K room / 1793 K melt)"
             )
         return self
 

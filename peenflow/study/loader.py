@@ -29,6 +29,8 @@ from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
+from .._toml import describe_toml_error
+from .bounds import bound_keys, check_bounds
 from .errors import Problem, StudyError, format_value, suggest, translate
 from .fidelity import REMOVED_KEYS, Fidelity, expand_preset
 from .items import Material, Shot, Strip
@@ -54,7 +56,7 @@ SECTIONS: dict[str, type[BaseModel]] = {
 }
 REGISTRY: dict[str, type[BaseModel]] = {"materials": Material, "shots": Shot, "strips": Strip}
 SINGULAR = {"materials": "material", "shots": "shot", "strips": "Almen strip"}
-STUDY_KEYS = ("name", "description", "include", "extends")
+STUDY_KEYS = ("name", "description", "include", "extends", "allow_outside_bounds")
 TOP_KEYS = ("study", *SECTIONS, *REGISTRY)
 # Where a section names a library item: (section, key, registry kind).
 REFERENCES = (("shot", "type", "shots"), ("almen", "strip", "strips"), ("target", "material", "materials"))
@@ -143,12 +145,17 @@ class _Loader:
     # --- files --------------------------------------------------------------
     def read_toml(self, file: Path, key: str = "", referrer: Path | None = None) -> dict | None:
         try:
+            if file.is_dir():
+                self.add(key, f"{file} is a directory; expected a TOML file", referrer)
+                return None
             with open(file, "rb") as fh:
                 return tomllib.load(fh)
         except FileNotFoundError:
             self.add(key, f"file not found: {file}", referrer)
+        except UnicodeDecodeError as exc:
+            self.add("", f"{file.name} is not a text TOML file (byte {exc.start} is not UTF-8)", file)
         except tomllib.TOMLDecodeError as exc:
-            self.add("", f"TOML syntax error in {file.name}: {exc}", file)
+            self.add("", f"TOML syntax error in {file.name}: {describe_toml_error(file, exc)}", file)
         except OSError as exc:
             self.add(key, f"cannot read {file}: {exc}", referrer)
         return None
@@ -209,7 +216,7 @@ class _Loader:
             if target["measured_profile_csv"]:
                 target["measured_profile_csv"] = str((file.parent / target["measured_profile_csv"]).resolve())
 
-        info = {k: table[k] for k in ("name", "description", "extends") if k in table}
+        info = {k: table[k] for k in ("name", "description", "extends", "allow_outside_bounds") if k in table}
         raw = _Raw(data=data, info=info, includes=includes, chain=[file])
         parent_spec = table.get("extends")
         if parent_spec is None:
@@ -373,18 +380,34 @@ class _Loader:
                 sections[name] = validated
 
         self.cross_checks(sections, failed)
+        outside = self.bounds(sections, info) if not failed and info is not None else []
         if self.problems or info is None or failed:
+            self.problems += outside
             return None
         try:
-            return Study(
+            study = Study(
                 info=info,
                 path=self.path,
                 extends_chain=tuple(raw.chain),
                 **sections,
             )
-        except ValidationError as exc:  # should not happen: sections are valid
+        except ValidationError as exc:  # a check that spans sections (e.g. a periodic REV too small)
             self.problems += translate(exc, Study)
-            return None
+            study = None
+        self.problems += outside
+        return None if outside else study
+
+    def bounds(self, sections: dict, info: StudyInfo) -> list[Problem]:
+        """Values outside their validated range (bounds.py), except the keys the study allows."""
+        out = []
+        known = bound_keys()
+        for i, k in enumerate(info.allow_outside_bounds):
+            if k not in known:
+                out.append(Problem(f"study.allow_outside_bounds[{i}]", f"no bound on this key{suggest(k, known)} "
+                                   f"(keys with bounds: {', '.join(known)})", None, format_value(k)))
+        for key, value, message in check_bounds(sections, set(info.allow_outside_bounds)):
+            out.append(Problem(key, message, None, format_value(value)))
+        return out
 
     def validate(self, model: type[BaseModel], value: dict, prefix: str) -> BaseModel | None:
         try:

@@ -30,6 +30,8 @@ class StudyInfo(StudyModel):
     description: str = ""
     include: tuple[str, ...] = Field(("peenflow:library",), description="library files included (resolved)")
     extends: Optional[str] = Field(None, description="parent study file, as written")
+    allow_outside_bounds: tuple[str, ...] = Field(
+        (), description="keys allowed outside their validated range (docs/study-files.md, Bounds); not inherited")
 
 
 class Study(StudyModel):

@@ -60,6 +60,8 @@ def counter(*, steps: int, delay_s: float = 0.0, ctx) -> xr.Dataset:
         acc += k
         ctx.save_checkpoint(xr.Dataset({"step": ((), k + 1), "acc": ((), acc)}))
         ctx.progress(k + 1, steps, "steps")
+        if ctx.stop_requested:  # a checkpoint is saved: stop here (Ctrl-C, SIGTERM, SIGHUP)
+            ctx.stop(f"after step {k + 1} of {steps}")
     return xr.Dataset({"acc": ((), acc), "started_at_step": ((), start)})
 
 

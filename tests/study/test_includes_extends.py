@@ -44,7 +44,8 @@ def test_included_file_relative_to_the_study_defines_new_items(write_study, tmp_
     (tmp_path / "lib").mkdir()
     (tmp_path / "lib" / "mine.toml").write_text(SOFT)
     s = load_study(write_study({"study.include": ["peenflow:library", "lib/mine.toml"],
-                                "target.material": "Soft", "shot.type": "Tiny"}))
+                                "target.material": "Soft", "shot.type": "Tiny",
+                                "fidelity.element_size_um": 40.0}))  # D / 5 of the 0.2 mm shot (bounds.py)
     assert s.target.material.johnson_cook.C == 0.01 and s.target.material.youngs_modulus_Pa == 70e9
     assert s.shot.diameter_m == pytest.approx(0.2e-3)
     assert s.info.include == ("peenflow:library", str(tmp_path / "lib" / "mine.toml"))

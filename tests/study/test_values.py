@@ -40,8 +40,8 @@ def test_si_accessors(write_study):
 
 
 def test_dmin_defaults_follow_the_almen_sweep(write_study):
-    s = load_study(write_study({"almen.velocities_m_s": [30.0, 70.0, 50.0], "almen.angles_deg": [90.0, 30.0, 60.0]}))
-    assert s.dmin.strip_velocity_m_s == 70.0 and s.dmin.strip_angles_deg == (30.0, 90.0)
+    s = load_study(write_study({"almen.velocities_m_s": [30.0, 70.0, 50.0], "almen.angles_deg": [90.0, 50.0, 60.0]}))
+    assert s.dmin.strip_velocity_m_s == 70.0 and s.dmin.strip_angles_deg == (50.0, 90.0)
     assert s.almen.velocities_m_s == (30.0, 50.0, 70.0)
     s = load_study(write_study({"dmin.strip_velocity_m_s": 40.0, "dmin.strip_angles_deg": [45.0]}))
     assert s.dmin.strip_velocity_m_s == 40.0 and s.dmin.strip_angles_deg == (45.0,)

@@ -48,8 +48,12 @@ def test_outside_an_extrapolated_curve_the_ladder_is_what_is_reported():
     """The paper_al7075_standard case: every point extrapolated and 0.30 mm below
     them all -- the fix is a longer ladder, not more velocities."""
     control = _control([1, 1, 1], [2800, 1400, 900])
-    with pytest.raises(ExtrapolatedIntensity, match="30 m/s at 90 deg: T = 2800 shots"):
+    with pytest.raises(ExtrapolatedIntensity, match="30 m/s at 90 deg: T = 2800 shots") as err:
         target_velocity.fn(control, intensity_mm=0.15, angle_deg=90.0)
+    # ... and it says that the target is outside the curve as well (issue 12, 9b)
+    assert str(err.value).startswith("target intensity 0.15 mm is outside the control curve at 90.0 deg, "
+                                     "which spans 0.2-0.4 mm over 30-50 m/s; and the control curve is not saturated")
+    assert "Extend almen.shot_counts" in str(err.value)
     with pytest.raises(IntensityOutOfRange):
         target_velocity.fn(control, intensity_mm=0.15, angle_deg=90.0, allow_extrapolated=True)
 
