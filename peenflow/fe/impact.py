@@ -127,8 +127,10 @@ class Options:
       averaged residual profile within 0.04 % of its peak of a strict
       reference either way (BENCHMARKS.md).
     relax_cg_rtol, relax_max_outer : static method: relative residual of each
-      linear (CG + multigrid) solve, most corrections before falling back to
-      dynamic relaxation.
+      linear (CG + multigrid) solve (0.3: loose, 1-3 V-cycles; the outer loop
+      corrects on the true forces, so a tighter inner solve only costs
+      V-cycles, BENCHMARKS.md section 2), most corrections before falling
+      back to dynamic relaxation.
     relax_damping, relax_v_fraction : dynamic method: damping factor (x pi
       c_s / L), max speed <= relax_v_fraction x the largest shot speed.
     lead_steps : the shot starts this many stable steps before touching.
@@ -166,7 +168,7 @@ class Options:
     relax_damping: float = 1.0
     relax_ke_fraction: float = 1e-7
     relax_v_fraction: float = 1e-4
-    relax_cg_rtol: float = 1e-2
+    relax_cg_rtol: float = 0.3
     relax_max_outer: int = 20
     lead_steps: int = 2
     final_relaxation: bool = True
