@@ -548,8 +548,9 @@ class Multigrid:
     def n_levels(self) -> int:
         return len(self.levels)
 
-    def _smooth(self, lev: Level, b, x, r, degree, x_zero):
-        """Chebyshev smoothing of ``K x = b``; ``r`` returns ``b - K x``."""
+    def _smooth(self, lev: Level, b, x, r, degree, x_zero, residual=True):
+        """Chebyshev smoothing of ``K x = b``; ``r`` returns ``b - K x`` (if ``residual``;
+        otherwise ``r`` is scratch and the last operator apply is skipped)."""
         hi = 1.15 * lev.lam_max
         lo = hi / CHEB_RATIO
         theta = 0.5 * (hi + lo)
@@ -570,8 +571,9 @@ class Multigrid:
             rho_new = 1.0 / (2.0 * sigma - rho)
             _cheb_update(d, r, lev.dinv, x, rho_new * rho, 2.0 * rho_new / delta)
             rho = rho_new
-        lev.apply(d, kx)
-        _axpy(r, -1.0, kx)
+        if residual:
+            lev.apply(d, kx)
+            _axpy(r, -1.0, kx)
 
     def vcycle(self, b: np.ndarray, level: int = 0) -> np.ndarray:
         """One symmetric V-cycle from ``x = 0``: an SPD approximation of ``K^-1 b``."""
@@ -598,7 +600,8 @@ class Multigrid:
             x += xs
         else:
             _prolong_add(xc, x, cx0, cx1, wx, cy0, cy1, wy, cz0, cz1, wz, nxt.nn[0], nxt.nn[1], lev.bc)
-        self._smooth(lev, b, x, r, CHEB_DEGREE, False)
+        # post-smoothing: its final residual is not used (one apply per level saved, same x)
+        self._smooth(lev, b, x, r, CHEB_DEGREE, False, residual=False)
         return x
 
 
