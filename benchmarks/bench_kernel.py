@@ -9,6 +9,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_kernel.py window-timing  # (last part of window) their cost, interleaved runs
     PYTHONPATH=. python benchmarks/bench_kernel.py window-seq   # held / viscous-spring in 4- and 80-shot sequences (~25 min)
     PYTHONPATH=. python benchmarks/bench_kernel.py springback   # spring-back cost/error vs the impact (single, REV snapshots)
+    PYTHONPATH=. python benchmarks/bench_kernel.py window-min   # window minimum size at 1 and 5 m/s vs the full mesh
     PYTHONPATH=. python benchmarks/bench_kernel.py hertz        # Hertz convergence table (quarter model)
     PYTHONPATH=. python benchmarks/bench_kernel.py plastic      # plastic dents at 25/55 m/s, refinement, rate on/off
 
@@ -645,6 +646,42 @@ def springback(speed=55.0, n_rev=12, snaps=(4, 8, 12)):
     print(f"# loadavg at end {loadavg()}")
 
 
+def window_minimum(speeds=(1.0, 5.0), h=25e-6):
+    """Window minimum size for slow shots: peak force / restitution against the full mesh
+    (stability sweep's 1.2 x 1.2 x 0.6 mm box, SAE 1070, normal; not relaxed)."""
+    import warnings
+
+    from peenflow.fe.impact import WindowValidityWarning
+    from peenflow.fe.mesh import graded_box
+
+    warnings.simplefilter("ignore", WindowValidityWarning)
+    mat = Material(**SAE1070)
+    t = Target(graded_box(0.6e-3, 0.6e-3, h, fine_half_width=0.15e-3, fine_depth=0.1e-3))
+    run_impacts(t, mat, Shots(centres=[[0, 0, -R - 1e-6]], velocities=[[0, 0, 5.0]], radius=R, density=7800.0),
+                Options(final_relaxation=False))  # JIT warm-up
+    print(f"# window minimum; loadavg {loadavg()}")
+    print("| v m/s | window sizing | window (elements) | peak force N | vs full mesh | restitution | energy error | CPU s |")
+    print("|---|---|---|---|---|---|---|---|")
+    cases = (("full mesh", dict(window=False)),
+             ("contact radii only (>= 2 elements)", dict(window_min_elements=2.0, window_min_wave=0.0)),
+             (">= 6 elements", dict(window_min_elements=6.0, window_min_wave=0.0)),
+             (">= 6 elements, >= 0.05 c_p t_c (default)", {}),
+             (">= 12 elements, >= 0.07 c_p t_c", dict(window_min_elements=12.0, window_min_wave=0.07)))
+    for v in speeds:
+        shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[[0.0, 0.0, v]], radius=R, density=7800.0)
+        f0 = None
+        for name, kw in cases:
+            c0 = time.process_time()
+            r = run_impacts(t, mat, shots, Options(final_relaxation=False, **kw))
+            cpu = time.process_time() - c0
+            s = r.shots
+            f = s["peak_force"][0]
+            f0 = f if f0 is None else f0
+            shape = f"{int(s['win_i1'][0] - s['win_i0'][0])} x {int(s['win_j1'][0] - s['win_j0'][0])} x {int(s['win_k1'][0])}"
+            print(f"| {v:g} | {name} | {shape} | {f:.3f} | {100 * (f / f0 - 1):+.1f} % | {s['restitution'][0]:.4f} | "
+                  f"{s['energy_error'][0]:.4f} | {cpu:.2f} |", flush=True)
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "throughput"
     if what == "rev-relax":  # relaxation only: default window, 1 and 20 shots, no full-mesh run
@@ -652,4 +689,5 @@ if __name__ == "__main__":
         rev(windows=((4.0, 4.0),), full=False, n_shots=20)
     else:
         {"throughput": throughput, "rev": rev, "hertz": hertz_table, "hertz-layout": hertz_layouts, "plastic": plastic_table,
-         "window": window_error, "window-timing": window_timing, "window-size": window_size, "settle": settle_tolerance, "window-seq": window_sequence, "springback": springback}[what]()
+         "window": window_error, "window-timing": window_timing, "window-size": window_size, "settle": settle_tolerance, "window-seq": window_sequence, "springback": springback,
+         "window-min": window_minimum}[what]()
