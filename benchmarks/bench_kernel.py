@@ -664,8 +664,10 @@ def window_minimum(speeds=(1.0, 5.0), h=25e-6):
     print("|---|---|---|---|---|---|---|---|")
     cases = (("full mesh", dict(window=False)),
              ("contact radii only (>= 2 elements)", dict(window_min_elements=2.0, window_min_wave=0.0)),
+             (">= 3 elements", dict(window_min_elements=3.0, window_min_wave=0.0)),
              (">= 6 elements", dict(window_min_elements=6.0, window_min_wave=0.0)),
-             (">= 6 elements, >= 0.05 c_p t_c (default)", {}),
+             (">= 3 elements, >= 0.05 c_p t_c (default)", {}),
+             (">= 6 elements, >= 0.05 c_p t_c", dict(window_min_elements=6.0)),
              (">= 12 elements, >= 0.07 c_p t_c", dict(window_min_elements=12.0, window_min_wave=0.07)))
     for v in speeds:
         shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[[0.0, 0.0, v]], radius=R, density=7800.0)

@@ -89,7 +89,7 @@ def slow() -> None:
     At 1 m/s on 60 um the window sized in contact radii alone was 2 x 2 x 1
     elements, and a box one element thick gets no stable step from the element
     pass ("NaN or Inf"); the window minimum (Options.window_min_elements /
-    window_min_wave) keeps it >= 6 elements and >= 0.05 c_p t_c."""
+    window_min_wave) keeps it >= 3 elements and >= 0.05 c_p t_c."""
     import warnings
 
     from peenflow.fe.impact import WindowValidityWarning

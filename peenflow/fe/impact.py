@@ -18,8 +18,8 @@ Event-driven time (one shot at a time, in the given order):
    shot's window would otherwise shrink to a few held elements: +5-6 % on
    the peak force at 1-5 m/s, 0.4 % with the minimum); elements outside are
    not integrated. A window smaller than any measured
-   (:data:`WINDOW_VALIDATED`) is warned about (:class:`WindowValidityWarning`). The window faces inside the
-   mesh are held fixed (``window_boundary="held"``, default), or stand on
+   (:data:`WINDOW_VALIDATED`) is warned about (:class:`WindowValidityWarning`).
+   The window faces inside the mesh are held fixed (``window_boundary="held"``, default), or stand on
    the exterior through a viscous-spring boundary
    (``window_boundary="viscous-spring"``; :meth:`Model.window_boundary`):
    Lysmer-Kuhlemeyer dashpots absorb the waves that held faces send back to
@@ -94,7 +94,8 @@ __all__ = ["Options", "ImpactRunResult", "Snapshot", "run_impacts", "Target", "M
 #: 12-24 elements, 0.07-0.15 c_p t_c; "Window minimum size": 1 and 5 m/s,
 #: 0.05 c_p t_c, force within 0.4 % of the full mesh): held faces at least
 #: this many elements from the landing point, and at least this fraction of
-#: the dilatational wave travel during the contact (``c_p t_c``) away. A run whose window is smaller on either count gets a
+#: the dilatational wave travel during the contact (``c_p t_c``) away. A run
+#: whose window is smaller on either count gets a
 #: :class:`WindowValidityWarning` (once per run).
 WINDOW_VALIDATED = {"elements": 12.0, "wave": 0.05}
 
@@ -118,10 +119,11 @@ class Options:
     window_lateral, window_depth : window half width / depth in estimated contact radii.
     window_min_elements : the window's half width and depth are at least this
       many elements (of the mesh at the landing point). Sized in contact radii
-      only, a slow shot's window shrinks to a few elements: at 1 m/s on a
-      25 um mesh 4 x 4 x 2 elements, all held but one node, and such a
-      window also meets a limit of the element pass (one element thick: no
-      stable step, "NaN or Inf"). See :data:`WINDOW_VALIDATED`.
+      only, a slow shot's window shrinks to a few elements (1 m/s on 60 um:
+      2 x 2 x 1), which meets a limit of the element pass (one element thick:
+      no stable step, "NaN or Inf"). 3, not more: on the 100 um micro study
+      6 made every window the whole 12-element REV and changed its arc-height
+      curves (BENCHMARKS.md section 2, "Window minimum size").
     window_min_wave : ... and at least this fraction of the distance a
       dilatational wave travels during the estimated contact (``c_p t_c``):
       the held faces must not sit much closer, in wave transit, than in the
@@ -184,7 +186,7 @@ class Options:
     window: bool = True
     window_lateral: float = 4.0
     window_depth: float = 4.0
-    window_min_elements: float = 6.0
+    window_min_elements: float = 3.0
     window_min_wave: float = 0.05
     window_sponge: float = 0.0
     window_boundary: str = "held"

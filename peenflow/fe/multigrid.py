@@ -36,8 +36,9 @@ against direct probes).
 Cycle. Symmetric V-cycle: Chebyshev smoothing (polynomial in D^-1 K over
 ``[hi / CHEB_RATIO, hi]``, ``hi = 1.15 lambda_max``, ``lambda_max`` by power
 iteration; on levels of more than ``POWER_MAX_NODES`` nodes ``hi`` is a
-guaranteed element-wise bound instead, :func:`element_bound`) before and after the coarse correction, trilinear prolongation,
-restriction = its transpose. As a preconditioner for conjugate gradients
+guaranteed element-wise bound instead, :func:`element_bound`) before and
+after the coarse correction, trilinear prolongation, restriction = its
+transpose. As a preconditioner for conjugate gradients
 (:func:`pcg`) it is symmetric positive definite.
 
 Periodic lateral faces (``periodic=True``; slave nodes flagged in ``bc``,
