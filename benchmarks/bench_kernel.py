@@ -8,6 +8,8 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_kernel.py window       # window error vs full mesh: held / viscous-spring faces
     PYTHONPATH=. python benchmarks/bench_kernel.py window-timing  # (last part of window) their cost, interleaved runs
     PYTHONPATH=. python benchmarks/bench_kernel.py window-seq   # held / viscous-spring in 4- and 80-shot sequences (~25 min)
+    PYTHONPATH=. python benchmarks/bench_kernel.py springback   # spring-back cost/error vs the impact (single, REV snapshots)
+    PYTHONPATH=. python benchmarks/bench_kernel.py window-min   # window minimum size at 1 and 5 m/s vs the full mesh
     PYTHONPATH=. python benchmarks/bench_kernel.py hertz        # Hertz convergence table (quarter model)
     PYTHONPATH=. python benchmarks/bench_kernel.py plastic      # plastic dents at 25/55 m/s, refinement, rate on/off
 
@@ -534,6 +536,154 @@ def plastic_table():
                 print(f"| {v:g} | {name} | {f1:.3f} / {f2:.3f} / {f3:.3f} | - | - | - |")
 
 
+def _springback_errors(rs, ref, mesh, nodes0):
+    """(profile error % of peak, dent error %, max |d sigma| MPa) of relaxed state ``rs`` against ``ref``."""
+    nn = mesh.shape_nodes[0] * mesh.shape_nodes[1]
+    _, p = profile(rs, mesh)
+    _, p0 = profile(ref, mesh)
+    d, d0 = (rs.x - nodes0)[:nn, 2].max(), (ref.x - nodes0)[:nn, 2].max()
+    return 100 * np.abs(p - p0).max() / np.abs(p0).max(), 100 * (d / d0 - 1), np.abs(rs.stress - ref.stress).max() / 1e6
+
+
+#: (name, Options keywords, STATIC_ENERGY_FACTOR, multigrid setup: every element size probed)
+SPRINGBACK_VARIANTS = (("old default (CG rtol 1e-2, factor 1e-2)", dict(relax_cg_rtol=1e-2), 1e-2, True),
+                       ("new default (CG rtol 0.3, factor 1e-3)", dict(relax_cg_rtol=0.3), 1e-3, False),
+                       ("CG rtol 0.3, factor 1e-2", dict(relax_cg_rtol=0.3), 1e-2, False))
+
+
+def springback(speed=55.0, n_rev=12, snaps=(4, 8, 12)):
+    """Spring-back (global static relaxation) against the impact: CPU s and error vs a strict solve.
+
+    (1) one windowed impact on a graded 104 k-element block (6D x 6D x 1.29 mm,
+    25 um fine zone of 1 x 1 x 0.3 mm, graded 1.2 outside): impact CPU, then
+    per variant the multigrid setup CPU (old: every element size probed and
+    30 power iterations per level; new: six probes spanning all sizes, an
+    element-wise spectral bound on the fine levels) and the relaxation CPU;
+    (2) a strip-REV sequence (463 k elements, ``n_rev`` shots, snapshots at
+    ``snaps``), each snapshot relaxed per variant. Errors against
+    ``relax_ke_fraction=1e-13, relax_cg_rtol=1e-4``. CPU = process time (one thread).
+    """
+    from peenflow.fe import multigrid as MG
+    from peenflow.fe import relaxation as RX
+    from peenflow.fe.mesh import graded_box
+    from peenflow.fe.model import Model
+    from peenflow.fe.state import KernelState
+
+    mat = Material(**SAE1070)
+    strict = Options(relax_ke_fraction=1e-13, relax_cg_rtol=1e-4)
+    e_ref = 0.5 * 7800.0 * 4.0 / 3.0 * np.pi * R**3 * speed**2
+    run_impacts(Target(BoxMesh(*(np.linspace(-2e-4, 2e-4, 9),) * 2, np.linspace(0, 2e-4, 5))), mat,
+                Shots(centres=[[0, 0, -R - 1e-6]], velocities=[[0, 0, 10.0]], radius=R, density=7800.0), Options())
+
+    def setup(mesh, bc, mat_static, old):
+        saved = MG.SPAN_TOLERANCE, MG.POWER_MAX_NODES
+        if old:  # the span check fails and every level runs its power iterations: the old setup
+            MG.SPAN_TOLERANCE, MG.POWER_MAX_NODES = -1.0, 1 << 62
+        try:
+            c0 = time.process_time()
+            mg = MG.Multigrid(mesh, bc, mat_static)
+            return mg, time.process_time() - c0
+        finally:
+            MG.SPAN_TOLERANCE, MG.POWER_MAX_NODES = saved
+
+    def relaxed(m, st, name, kw, factor):
+        saved, RX.STATIC_ENERGY_FACTOR = RX.STATIC_ENERGY_FACTOR, factor
+        try:
+            c0 = time.process_time()
+            rs, rr = RX.relax(m, st, Options(**kw), e_ref, speed)
+            return rs, rr, time.process_time() - c0
+        finally:
+            RX.STATIC_ENERGY_FACTOR = saved
+
+    print(f"# spring-back vs impact; loadavg {loadavg()}", flush=True)
+    print("| case | variant | multigrid setup CPU s | relaxation CPU s | element passes / V-cycles | "
+          "profile error % of peak | dent error % | max abs d sigma MPa |")
+    print("|---|---|---|---|---|---|---|---|")
+    # (1) single impact, 104 k-element block
+    mesh = graded_box(1.74e-3, 1.29e-3, 25e-6, fine_half_width=0.5e-3, fine_depth=0.3e-3)
+    t = Target(mesh)
+    shots = Shots(centres=[[0, 0, -R - 1e-6]], velocities=[[0, 0, speed]], radius=R, density=7800.0)
+    c0 = time.process_time()
+    res = run_impacts(t, mat, shots, Options(final_relaxation=False))
+    print(f"# block {mesh.shape_elements} = {mesh.n_elements} elements: impact + settle CPU "
+          f"{time.process_time() - c0:.2f} s", flush=True)
+    m = Model(t, mat)
+    m._multigrid, _ = setup(mesh, m.bc, m.mat_static, False)
+    ref, _ = RX.relax(m, res.final_state, strict, e_ref, speed)
+    for name, kw, factor, old in SPRINGBACK_VARIANTS:
+        m._multigrid, cpu_setup = setup(mesh, m.bc, m.mat_static, old)
+        rs, rr, cpu = relaxed(m, res.final_state, name, kw, factor)
+        vc = int(rr.records[:, 1].sum()) + 1 if len(rr.records) else 1
+        print(f"| single impact, 104 k block | {name} | {cpu_setup:.2f} | {cpu:.2f} | {int(rr.info[1])} / {vc} | "
+              + " | ".join(f"{e:.4f}" for e in _springback_errors(rs, ref, mesh, m.nodes0)) + " |", flush=True)
+    # (2) strip-REV snapshot sequence
+    mesh = rev_mesh()
+    t = Target(mesh)
+    rng = np.random.default_rng(0)
+    c = np.column_stack([rng.uniform(-0.3e-3, 0.3e-3, n_rev), rng.uniform(-0.3e-3, 0.3e-3, n_rev),
+                         np.full(n_rev, -R - 1e-6)])
+    shots = Shots(centres=c, velocities=[[0.0, 0.0, speed]] * n_rev, radius=R, density=7800.0)
+    states = {}
+
+    def keep(i, exporter):
+        if i + 1 in snaps:
+            states[i + 1] = KernelState.from_dict(exporter())
+
+    c0 = time.process_time()
+    run_impacts(t, mat, shots, Options(final_relaxation=False), on_shot_done=keep)
+    print(f"# strip REV {mesh.n_elements} elements: {n_rev} impacts CPU {time.process_time() - c0:.1f} s", flush=True)
+    m = Model(t, mat)
+    for old in (True, False):
+        m._multigrid, cpu_setup = setup(mesh, m.bc, m.mat_static, old)
+        print(f"# REV multigrid setup ({'old' if old else 'new'}) CPU {cpu_setup:.2f} s", flush=True)
+    for n in snaps:
+        ref, _ = RX.relax(m, states[n], strict, e_ref, speed)
+        for name, kw, factor, old in SPRINGBACK_VARIANTS:
+            rs, rr, cpu = relaxed(m, states[n], name, kw, factor)
+            vc = int(rr.records[:, 1].sum()) + 1 if len(rr.records) else 1
+            print(f"| REV snapshot after {n} shots | {name} | - | {cpu:.2f} | {int(rr.info[1])} / {vc} | "
+                  + " | ".join(f"{e:.4f}" for e in _springback_errors(rs, ref, mesh, m.nodes0)) + " |", flush=True)
+    print(f"# loadavg at end {loadavg()}")
+
+
+def window_minimum(speeds=(1.0, 5.0), h=25e-6):
+    """Window minimum size for slow shots: peak force / restitution against the full mesh
+    (stability sweep's 1.2 x 1.2 x 0.6 mm box, SAE 1070, normal; not relaxed)."""
+    import warnings
+
+    from peenflow.fe.impact import WindowValidityWarning
+    from peenflow.fe.mesh import graded_box
+
+    warnings.simplefilter("ignore", WindowValidityWarning)
+    mat = Material(**SAE1070)
+    t = Target(graded_box(0.6e-3, 0.6e-3, h, fine_half_width=0.15e-3, fine_depth=0.1e-3))
+    run_impacts(t, mat, Shots(centres=[[0, 0, -R - 1e-6]], velocities=[[0, 0, 5.0]], radius=R, density=7800.0),
+                Options(final_relaxation=False))  # JIT warm-up
+    print(f"# window minimum; loadavg {loadavg()}")
+    print("| v m/s | window sizing | window (elements) | peak force N | vs full mesh | restitution | energy error | CPU s |")
+    print("|---|---|---|---|---|---|---|---|")
+    cases = (("full mesh", dict(window=False)),
+             ("contact radii only (>= 2 elements)", dict(window_min_elements=2.0, window_min_wave=0.0)),
+             (">= 3 elements", dict(window_min_elements=3.0, window_min_wave=0.0)),
+             (">= 6 elements", dict(window_min_elements=6.0, window_min_wave=0.0)),
+             (">= 3 elements, >= 0.05 c_p t_c (default)", {}),
+             (">= 6 elements, >= 0.05 c_p t_c", dict(window_min_elements=6.0)),
+             (">= 12 elements, >= 0.07 c_p t_c", dict(window_min_elements=12.0, window_min_wave=0.07)))
+    for v in speeds:
+        shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[[0.0, 0.0, v]], radius=R, density=7800.0)
+        f0 = None
+        for name, kw in cases:
+            c0 = time.process_time()
+            r = run_impacts(t, mat, shots, Options(final_relaxation=False, **kw))
+            cpu = time.process_time() - c0
+            s = r.shots
+            f = s["peak_force"][0]
+            f0 = f if f0 is None else f0
+            shape = f"{int(s['win_i1'][0] - s['win_i0'][0])} x {int(s['win_j1'][0] - s['win_j0'][0])} x {int(s['win_k1'][0])}"
+            print(f"| {v:g} | {name} | {shape} | {f:.3f} | {100 * (f / f0 - 1):+.1f} % | {s['restitution'][0]:.4f} | "
+                  f"{s['energy_error'][0]:.4f} | {cpu:.2f} |", flush=True)
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "throughput"
     if what == "rev-relax":  # relaxation only: default window, 1 and 20 shots, no full-mesh run
@@ -541,4 +691,5 @@ if __name__ == "__main__":
         rev(windows=((4.0, 4.0),), full=False, n_shots=20)
     else:
         {"throughput": throughput, "rev": rev, "hertz": hertz_table, "hertz-layout": hertz_layouts, "plastic": plastic_table,
-         "window": window_error, "window-timing": window_timing, "window-size": window_size, "settle": settle_tolerance, "window-seq": window_sequence}[what]()
+         "window": window_error, "window-timing": window_timing, "window-size": window_size, "settle": settle_tolerance, "window-seq": window_sequence, "springback": springback,
+         "window-min": window_minimum}[what]()

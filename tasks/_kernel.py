@@ -33,12 +33,6 @@ from peenflow.methods import impingement_direction
 
 VOIGT = ("xx", "yy", "zz", "yz", "xz", "xy")
 
-#: smallest active window, half width and depth in fine elements: a 1 m/s impact on 100 um elements
-#: got a window of 0.55 elements between held faces and blew up (NaN); from 1.5 elements on it runs
-#: (energy balance 1.7-1.9 %), 3 leaves a margin and changes no shipped study's window
-WINDOW_MIN_ELEMENTS = 3.0
-
-
 def kernel_material(p: dict) -> Material:
     return Material(
         E=p["E_Pa"], nu=p["nu"], density=p["density_kg_m3"], A=p["A_Pa"], B=p["B_Pa"], n=p["n"], C=p["C"],
@@ -55,15 +49,14 @@ def kernel_options(f: dict, shot: dict, threads: int = 1, record: bool = False, 
     relaxation end when the kinetic energy falls below the tolerance times
     the impact energy and every nodal speed below ``0.1 sqrt(tolerance)``
     times the shot speed (the kernel's two rest criteria; the standard
-    preset gives the kernel's defaults).  The window is never smaller than
-    ``WINDOW_MIN_ELEMENTS`` fine elements: at low speed the contact radius
-    is a fraction of an element (0.18 elements at 1 m/s on 100 um).
+    preset gives the kernel's defaults).  The window's minimum size (in
+    elements and in wave travel) is the kernel's own
+    (``Options.window_min_elements``, ``window_min_wave``).
     """
     window = f["window_contact_radii"]
     return Options(
         dt_safety=f["time_step_safety"], friction=shot["friction"], window=window > 0,
         window_lateral=window if window > 0 else 4.0, window_depth=window if window > 0 else 4.0,
-        window_min_elements=WINDOW_MIN_ELEMENTS,
         rest_ke_fraction=f["settle_tolerance"], rest_v_fraction=0.1 * math.sqrt(f["settle_tolerance"]),
         relax_ke_fraction=f["relaxation_tolerance"], relax_v_fraction=0.1 * math.sqrt(f["relaxation_tolerance"]),
         threads=threads, record=record, record_every=record_every,

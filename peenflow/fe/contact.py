@@ -22,7 +22,17 @@ friction) is returned so that the energy balance stays closed.
 
 Shot vector ``shot`` (float64): 0-2 centre (m), 3-5 velocity (m/s), 6-8 spin
 (rad/s), 9 mass M (kg, the modelled fraction), 10 moment of inertia (kg m^2),
-11 radius R (m), 12 friction coefficient.
+11 radius R (m), 12 friction coefficient, 13 mirror flags (1: the shot's
+centre lies on a symmetry plane x = const, 2: on a plane y = const).
+
+Symmetry planes: a shot centred on a symmetry plane stands for a whole
+sphere whose mirror half meets the mirror image of the model's nodes, so the
+impulses normal to the plane and the moments about axes lying in it cancel
+exactly. The shot therefore keeps ``v_x = omega_y = omega_z = 0`` on an
+``x`` plane (``v_y = omega_x = omega_z = 0`` on a ``y`` plane): the flags mask
+those components of every impulse it receives. Without the mask a quarter
+model's shot drifts sideways (about -6.7 m/s in x and y at 55 m/s) and
+rebounds too slowly.
 """
 
 from __future__ import annotations
@@ -33,8 +43,9 @@ import numpy as np
 
 from peenflow._jit import jit
 
-S_C, S_V, S_W, S_M, S_I, S_R, S_MU = 0, 3, 6, 9, 10, 11, 12
-N_SHOT = 13
+S_C, S_V, S_W, S_M, S_I, S_R, S_MU, S_MIRROR = 0, 3, 6, 9, 10, 11, 12, 13
+N_SHOT = 14
+MIRROR_X, MIRROR_Y = 1, 2
 
 
 @jit
@@ -57,6 +68,13 @@ def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, n
     """
     R = shot[S_R]
     M = shot[S_M]
+    # translation and spin components the shot may take (symmetry planes)
+    mirror = int(shot[S_MIRROR])
+    kx = 0.0 if mirror & MIRROR_X else 1.0
+    ky = 0.0 if mirror & MIRROR_Y else 1.0
+    kwx = 0.0 if mirror & MIRROR_Y else 1.0
+    kwy = 0.0 if mirror & MIRROR_X else 1.0
+    kwz = kx * ky
     cx = shot[0]
     cy = shot[1]
     cz = shot[2]
@@ -136,7 +154,9 @@ def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, n
             dn[a, 1] += m * uy * idt
             dn[a, 2] += m * uz * idt
             dn[a, 3] = 1.0
-        # equal and opposite impulse on the shot
+        # equal and opposite impulse on the shot (less what the mirror half cancels)
+        px *= kx
+        py *= ky
         shot[3] -= px / M
         shot[4] -= py / M
         shot[5] -= pz / M
@@ -246,6 +266,11 @@ def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, n
         dn[a, 0] -= px
         dn[a, 1] -= py
         dn[a, 2] -= pz
+    fpx *= kx
+    fpy *= ky
+    lx *= kwx
+    ly *= kwy
+    lz *= kwz
     shot[3] += fpx / M
     shot[4] += fpy / M
     shot[5] += fpz / M

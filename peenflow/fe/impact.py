@@ -13,8 +13,13 @@ Event-driven time (one shot at a time, in the given order):
 2. Impact phase on the ACTIVE WINDOW (``options.window``): an element box
    around the landing point, ``window_lateral`` x the estimated contact radius
    laterally (plus the shot's tangential travel) and ``window_depth`` x it in
-   depth; elements outside are not integrated. The window faces inside the
-   mesh are held fixed (``window_boundary="held"``, default), or stand on
+   depth, but at least ``window_min_elements`` elements and
+   ``window_min_wave`` x the wave travel during the contact each way (a slow
+   shot's window would otherwise shrink to a few held elements: +5-6 % on
+   the peak force at 1-5 m/s, 0.4 % with the minimum); elements outside are
+   not integrated. A window smaller than any measured
+   (:data:`WINDOW_VALIDATED`) is warned about (:class:`WindowValidityWarning`).
+   The window faces inside the mesh are held fixed (``window_boundary="held"``, default), or stand on
    the exterior through a viscous-spring boundary
    (``window_boundary="viscous-spring"``; :meth:`Model.window_boundary`):
    Lysmer-Kuhlemeyer dashpots absorb the waves that held faces send back to
@@ -67,20 +72,36 @@ from __future__ import annotations
 import math
 import numbers
 import time as _time
+import warnings
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
 from peenflow.fe import solver as S
-from peenflow.fe.contact import N_SHOT, S_I, S_M, S_MU, S_R
+from peenflow.fe.contact import MIRROR_X, MIRROR_Y, N_SHOT, S_I, S_M, S_MIRROR, S_MU, S_R
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.model import Model, Target
 from peenflow.fe.relaxation import relax
 from peenflow.fe.shots import Shots, hertz, johnson_plastic, time_to_contact
 from peenflow.fe.state import SHOT_RECORD_FIELDS, KernelState
 
-__all__ = ["Options", "ImpactRunResult", "Snapshot", "run_impacts", "Target", "Material", "Shots"]
+__all__ = ["Options", "ImpactRunResult", "Snapshot", "run_impacts", "Target", "Material", "Shots",
+           "WindowValidityWarning", "WINDOW_VALIDATED"]
+
+#: The window's measured envelope (BENCHMARKS.md section 2, window error and
+#: window size: strip REV, 25 um, 55 m/s, windows of 3-6 contact radii =
+#: 12-24 elements, 0.07-0.15 c_p t_c; "Window minimum size": 1 and 5 m/s,
+#: 0.05 c_p t_c, force within 0.4 % of the full mesh): held faces at least
+#: this many elements from the landing point, and at least this fraction of
+#: the dilatational wave travel during the contact (``c_p t_c``) away. A run
+#: whose window is smaller on either count gets a
+#: :class:`WindowValidityWarning` (once per run).
+WINDOW_VALIDATED = {"elements": 12.0, "wave": 0.05}
+
+
+class WindowValidityWarning(UserWarning):
+    """A shot's active window is smaller than any the window error was measured for."""
 
 
 @dataclass(frozen=True)
@@ -96,10 +117,17 @@ class Options:
     bulk_linear, bulk_quadratic : bulk-viscosity coefficients.
     window : integrate only an active window around each impact.
     window_lateral, window_depth : window half width / depth in estimated contact radii.
-    window_min_elements : the window's half width and depth are at least this many fine
-      elements (0 = no minimum). A slow impact's contact radius can be a fraction of an
-      element: a window of one element between held faces blew up (NaN) at 1 m/s on
-      100 um elements; 3 elements run it with the energy balance closed to 1.7 %.
+    window_min_elements : the window's half width and depth are at least this
+      many elements (of the mesh at the landing point). Sized in contact radii
+      only, a slow shot's window shrinks to a few elements (1 m/s on 60 um:
+      2 x 2 x 1), which meets a limit of the element pass (one element thick:
+      no stable step, "NaN or Inf"). 3, not more: on the 100 um micro study
+      6 made every window the whole 12-element REV and changed its arc-height
+      curves (BENCHMARKS.md section 2, "Window minimum size").
+    window_min_wave : ... and at least this fraction of the distance a
+      dilatational wave travels during the estimated contact (``c_p t_c``):
+      the held faces must not sit much closer, in wave transit, than in the
+      cases the window was measured for (:data:`WINDOW_VALIDATED`).
     window_sponge : absorbing layer along the held window faces, as a fraction
       of the window's smaller extent (half width or depth); 0 = none.
     sponge_damping : its peak damping rate, x c_dilatational / layer thickness.
@@ -131,8 +159,10 @@ class Options:
       averaged residual profile within 0.04 % of its peak of a strict
       reference either way (BENCHMARKS.md).
     relax_cg_rtol, relax_max_outer : static method: relative residual of each
-      linear (CG + multigrid) solve, most corrections before falling back to
-      dynamic relaxation.
+      linear (CG + multigrid) solve (0.3: loose, 1-3 V-cycles; the outer loop
+      corrects on the true forces, so a tighter inner solve only costs
+      V-cycles, BENCHMARKS.md section 2), most corrections before falling
+      back to dynamic relaxation.
     relax_damping, relax_v_fraction : dynamic method: damping factor (x pi
       c_s / L), max speed <= relax_v_fraction x the largest shot speed.
     lead_steps : the shot starts this many stable steps before touching.
@@ -156,7 +186,8 @@ class Options:
     window: bool = True
     window_lateral: float = 4.0
     window_depth: float = 4.0
-    window_min_elements: float = 0.0
+    window_min_elements: float = 3.0
+    window_min_wave: float = 0.05
     window_sponge: float = 0.0
     window_boundary: str = "held"
     boundary_spring: float = 1.0
@@ -171,7 +202,7 @@ class Options:
     relax_damping: float = 1.0
     relax_ke_fraction: float = 1e-7
     relax_v_fraction: float = 1e-4
-    relax_cg_rtol: float = 1e-2
+    relax_cg_rtol: float = 0.3
     relax_max_outer: int = 20
     lead_steps: int = 2
     final_relaxation: bool = True
@@ -190,8 +221,8 @@ class Options:
             ("dt_safety", 0.0, False, 1.0), ("friction", 0.0, True, None), ("hourglass", 0.0, True, None),
             ("hourglass_plastic_floor", 0.0, False, 1.0), ("bulk_linear", 0.0, True, None),
             ("bulk_quadratic", 0.0, True, None), ("window_lateral", 0.0, False, None),
-            ("window_depth", 0.0, False, None), ("window_min_elements", 0.0, True, None),
-            ("window_sponge", 0.0, True, 1.0),
+            ("window_depth", 0.0, False, None), ("window_min_elements", 2.0, True, None),
+            ("window_min_wave", 0.0, True, None), ("window_sponge", 0.0, True, 1.0),
             ("boundary_spring", 0.0, True, None), ("boundary_dashpot", 0.0, True, None),
             ("boundary_slab", 0.0, True, None), ("sponge_damping", 0.0, True, None),
             ("settle_damping", 0.0, False, None), ("rest_ke_fraction", 0.0, False, None),
@@ -249,14 +280,18 @@ class ImpactRunResult:
       max_contact_radius m (farthest node in contact; quantised by the node
       spacing), contact_radius m (Hertz-equivalent radius sqrt(5/2 <r^2>) from
       the normal-impulse distribution at peak force), hourglass_peak (peak hourglass energy / impact energy),
+      internal_peak (peak internal energy / impact energy), spin_in_* / spin_out_* rad/s (the shot's
+      spin before and after the impact; on a symmetry plane the components it cannot hold are 0),
       energy_error = max |balance error| / impact energy).
     histories : list (one per shot, if options.record) of dicts of arrays:
       time s, force (n,3) N on the shot, centre (n,3) m, velocity (n,3) m/s,
       ke_target, ke_shot, w_int, w_plastic, w_hourglass, w_viscous, e_contact,
       e_damping (J), dt s.
     energy : dict of cumulative energies (J) of the final state before relaxation.
-    hourglass_ratio : W_hourglass / W_int of the final state (plastic runs);
-      see also shots["hourglass_peak"].
+    hourglass_ratio : peak hourglass energy / peak internal energy of an impact,
+      the largest over the shots (elastic runs too: the final W_hourglass / W_int
+      of an elastic run is noise, e.g. -0.45); per shot: shots["hourglass_peak"] /
+      shots["internal_peak"].
     energy_error : largest per-shot energy balance error / impact energy.
     final_state : KernelState (unrelaxed; resume from it).
     wall_time : s.
@@ -284,12 +319,23 @@ def _shot_vector(shots: Shots, i: int, model: Model, friction: float) -> tuple[n
     s[3:6] = shots.velocities[i]
     s[6:9] = shots.spins[i]
     frac = 1.0
+    mirror = 0
     m = model.mesh
     if model.target.lateral == "symmetric":
         tol = 1e-9 * (m.x[-1] - m.x[0])
-        for val, lo, hi in ((s[0], m.x[0], m.x[-1]), (s[1], m.y[0], m.y[-1])):
+        for val, lo, hi, flag in ((s[0], m.x[0], m.x[-1], MIRROR_X), (s[1], m.y[0], m.y[-1], MIRROR_Y)):
             if abs(val - lo) <= tol or abs(val - hi) <= tol:
                 frac *= 0.5
+                mirror |= flag
+    held = ([3, 7, 8] if mirror & MIRROR_X else []) + ([4, 6, 8] if mirror & MIRROR_Y else [])
+    # round-off (cos 90 deg) is cleared; a real component is refused
+    scale = 1e-9 * (np.linalg.norm(s[3:6]) + np.linalg.norm(s[6:9]) * shots.radius + 1e-30)
+    if held and np.any(np.abs(s[held]) * np.where(np.array(held) >= 6, shots.radius, 1.0) > scale):
+        raise ValueError(f"shot {i} lies on a symmetry plane of the mesh but its velocity/spin "
+                         f"{s[3:9].tolist()} has components that plane cannot hold (v normal to it, "
+                         "spin about axes in it): use a larger model or align the shot with the plane")
+    s[held] = 0.0
+    s[S_MIRROR] = mirror
     s[S_M] = shots.mass * frac
     s[S_I] = shots.inertia * frac
     s[S_R] = shots.radius
@@ -320,12 +366,61 @@ def _periodic_shift(model: Model, shot: np.ndarray, vel: np.ndarray, shots: Shot
                 f"periodic target: the period along {'xy'[a]} ({L:.4g} m) is too short for the shot's contact "
                 f"zone (2 x {contact[a]:.4g} m: 1.25 R + tangential travel + 2 elements each side)")
     if options.window:
-        lat = max(options.window_lateral * a_est, options.window_min_elements * float(np.min(np.diff(model.mesh.z))))
-        reach = [(lat + max(-travel[a], 0.0), lat + max(travel[a], 0.0)) for a in (0, 1)]
+        lat_x, lat_y, _ = _window_size(model, material, options, a_est, t_est, xl, yl)
+        reach = [(lat + max(-travel[a], 0.0), lat + max(travel[a], 0.0)) for a, lat in ((0, lat_x), (1, lat_y))]
         reach = [(max(lo, c), max(hi, c)) for (lo, hi), c in zip(reach, contact)]
     else:
         reach = [(c, c) for c in contact]
     return model.periodic_shift(xl, yl, reach[0], reach[1])
+
+
+def _local_size(axis: np.ndarray, c: float) -> float:
+    """Size (m) of the element of ``axis`` that holds coordinate ``c`` (the nearest end one outside)."""
+    k = int(np.clip(np.searchsorted(axis, c), 1, len(axis) - 1))
+    return float(axis[k] - axis[k - 1])
+
+
+def _window_size(model: Model, material: Material, options: "Options", a_est: float, t_est: float,
+                 xc: float, yc: float) -> tuple[float, float, float]:
+    """Window half widths along x, y and depth (m) for a shot landing at ``(xc, yc)``.
+
+    The largest of: ``window_lateral`` (``window_depth``) contact radii,
+    ``window_min_elements`` elements of the mesh there, and
+    ``window_min_wave`` of the wave travel during the contact ``c_p t_c``.
+    """
+    m = model.mesh
+    wave = options.window_min_wave * material.wave_speed * t_est
+    n = options.window_min_elements
+    lat_x = max(options.window_lateral * a_est, n * _local_size(m.x, xc), wave)
+    lat_y = max(options.window_lateral * a_est, n * _local_size(m.y, yc), wave)
+    depth = max(options.window_depth * a_est, float(m.z[min(int(math.ceil(n)), len(m.z) - 1)]), wave)
+    return lat_x, lat_y, depth
+
+
+def _window_validity(model: Model, material: Material, win: np.ndarray, xc: float, yc: float,
+                     t_est: float) -> str | None:
+    """Why the window ``win`` lies outside :data:`WINDOW_VALIDATED` (None when it does not).
+
+    Each held face counts: its distance from the landing point in elements of
+    the mesh there, and as a fraction of the wave travel ``c_p t_c``."""
+    m = model.mesh
+    hold = model.hold_flags(win)
+    hx, hy = _local_size(m.x, xc), _local_size(m.y, yc)
+    faces = ((hold[0], xc - m.x[win[0]], hx), (hold[1], m.x[win[1]] - xc, hx), (hold[2], yc - m.y[win[2]], hy),
+             (hold[3], m.y[win[3]] - yc, hy), (hold[5], m.z[win[5]], float(m.z[1] - m.z[0])))
+    held = [(d, d / h) for flag, d, h in faces if flag]
+    if not held:
+        return None
+    dist = min(d for d, _ in held)
+    elements = min(e for _, e in held)
+    wave = dist / (material.wave_speed * t_est)
+    if elements >= WINDOW_VALIDATED["elements"] and wave >= WINDOW_VALIDATED["wave"]:
+        return None
+    return (f"its nearest held face is {elements:.1f} elements and {wave:.3f} x c_p t_c (the wave travel during "
+            f"the {t_est * 1e6:.3g} us contact) from the landing point; the window error was measured only for "
+            f">= {WINDOW_VALIDATED['elements']:g} elements and >= {WINDOW_VALIDATED['wave']:g} c_p t_c "
+            "(BENCHMARKS.md section 2). Raise Options.window_min_elements / window_min_wave / window_lateral, "
+            "or run without a window (window=False) to check")
 
 
 def _contact_estimates(shots: Shots, material: Material, vn: float) -> tuple[float, float]:
@@ -336,6 +431,17 @@ def _contact_estimates(shots: Shots, material: Material, vn: float) -> tuple[flo
     # plastic contact lasts about pi/2 sqrt(m / (2 pi R p)) ~ the Hertz time; take the larger
     tp = 0.5 * math.pi * math.sqrt(shots.mass / (2.0 * math.pi * shots.radius * 3.0 * material.A))
     return a, max(h["t"], tp)
+
+
+def _hourglass_ratio(rec: np.ndarray) -> float:
+    """Largest over the shots that touched of (peak hourglass energy / peak internal energy) of the impact.
+
+    Peaks, not the final energies: in an elastic impact both return to ~0 once
+    the shot has left, and their final ratio is noise of either sign."""
+    k_hg = SHOT_RECORD_FIELDS.index("hourglass_peak")
+    k_int = SHOT_RECORD_FIELDS.index("internal_peak")
+    hit = (rec[:, 1] > 0) & (rec[:, k_int] > 0) if len(rec) else np.zeros(0, bool)
+    return float(np.max(rec[hit, k_hg] / rec[hit, k_int])) if np.any(hit) else 0.0
 
 
 def run_impacts(
@@ -395,6 +501,7 @@ def run_impacts(
         return st.with_records(np.array(records).reshape(-1, len(SHOT_RECORD_FIELDS))).to_dict()
 
     start = int(st.shot_index[0])
+    warned = False
     for i in range(start, len(shots)):
         shot, frac = _shot_vector(shots, i, model, options.friction)
         vel = shot[3:6].copy()
@@ -404,6 +511,8 @@ def run_impacts(
         row[0] = i
         row[5:8] = vel
         row[18] = e_imp / frac
+        row[28:31] = shot[6:9]  # spin in (components a symmetry plane cannot hold are 0)
+        row[31:34] = shot[6:9]  # spin out: unchanged unless it touches
         sx = sy = 0
         if model.periodic and vel[2] > 0:
             sx, sy = _periodic_shift(model, shot, vel, shots, material, options)
@@ -429,14 +538,18 @@ def run_impacts(
             hit_xy = shot[0:2] + vel[0:2] * (t_hit - t_fly)
             if options.window:
                 travel = 1.5 * t_est * vel[0:2]
-                h_min = options.window_min_elements * float(np.min(np.diff(model.mesh.z)))
-                lat = max(options.window_lateral * a_est, h_min)
+                lat_x, lat_y, depth = _window_size(model, material, options, a_est, t_est, hit_xy[0], hit_xy[1])
                 win = model.window_box(
                     hit_xy[0], hit_xy[1],
-                    (lat + max(-travel[0], 0.0), lat + max(travel[0], 0.0)),
-                    (lat + max(-travel[1], 0.0), lat + max(travel[1], 0.0)),
-                    max(options.window_depth * a_est, h_min),
+                    (lat_x + max(-travel[0], 0.0), lat_x + max(travel[0], 0.0)),
+                    (lat_y + max(-travel[1], 0.0), lat_y + max(travel[1], 0.0)),
+                    depth,
                 )
+                why = None if warned else _window_validity(model, material, win, hit_xy[0], hit_xy[1], t_est)
+                if why is not None:
+                    warned = True
+                    warnings.warn(f"shot {i}: the active window {tuple(int(w) for w in win)} (element box) is "
+                                  f"outside what it was validated for: {why}", WindowValidityWarning, stacklevel=2)
             else:
                 win = model.full_window
             if model.periodic:
@@ -497,6 +610,8 @@ def run_impacts(
             row[19:25] = win + np.array([sx, sx, sy, sy, 0, 0])  # periodic: may extend beyond the mesh (wraps)
             row[25] = math.sqrt(2.5 * info[S.I_R2_AT_PEAK])
             row[26] = info[S.I_HG_PEAK] / e_imp
+            row[27] = info[S.I_INT_PEAK] / e_imp
+            row[31:34] = shot[6:9]  # the phase leaves the rebound spin in the shot vector
             records.append(row)
             if options.record:
                 r = res.records
@@ -537,7 +652,7 @@ def run_impacts(
         shots=shot_dict,
         histories=histories,
         energy=energy,
-        hourglass_ratio=en[S.E_HG] / en[S.E_INT] if en[S.E_INT] > 0 else 0.0,
+        hourglass_ratio=_hourglass_ratio(rec),
         energy_error=float(np.max(rec[hit, 17])) if np.any(hit) else 0.0,
         final_state=final,
         wall_time=_time.perf_counter() - t_wall,

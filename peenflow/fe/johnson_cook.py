@@ -62,6 +62,10 @@ class Material:
     T_room, T_melt : K; initial_temperature : K; specific_heat : J/(kg K);
     taylor_quinney : - (fraction of plastic work turned into heat);
     adiabatic : bool, heat the element with its plastic work.
+
+    ``A = inf`` (:meth:`elastic`) is a plain linear-elastic material: the
+    static flow stress is infinite, so every trial stress is accepted and
+    the return map never runs (needs ``B = 0`` and ``m = 0``).
     """
 
     E: float
@@ -95,6 +99,23 @@ class Material:
         for name, ok, expected in checks:
             if not ok:
                 raise ValueError(f"Material.{name} = {getattr(self, name)!r}: expected {expected}")
+        if math.isinf(self.A) and (self.B != 0.0 or self.m != 0.0):
+            raise ValueError(f"Material: A = inf (elastic) with B = {self.B!r}, m = {self.m!r}: expected B = 0 and "
+                             "m = 0 (an elastic material has no hardening or thermal softening)")
+
+    @classmethod
+    def elastic(cls, E: float, nu: float, density: float, **kwargs) -> "Material":
+        """A linear-elastic target (Pa, -, kg/m^3): ``A = inf``, never yields.
+
+        Same results as a flow stress too high to reach (the old ``A = 1e13``
+        workaround) -- both skip the return map -- without a made-up number.
+        """
+        return cls(E=E, nu=nu, density=density, A=math.inf, **kwargs)
+
+    @property
+    def is_elastic(self) -> bool:
+        """True for a material that never yields (``A = inf``)."""
+        return math.isinf(self.A)
 
     @property
     def lam(self) -> float:

@@ -271,6 +271,10 @@ class Model:
         2 springs only; :func:`peenflow.fe.solver.run_phase`).
         """
         win = np.ascontiguousarray(win, dtype=np.int64)
+        if win[3] - win[2] < 2 or win[5] - win[4] < 2:
+            # the element pass reports no stable step for a box one element row thick (y or z)
+            raise ValueError(f"phase: the integrated element box {tuple(int(w) for w in win)} must be at least 2 "
+                             "elements along y and z (a mesh or window one element thick)")
         if self.periodic:
             for a, (lo, hi, n) in enumerate(((win[0], win[1], self.nx), (win[2], win[3], self.ny))):
                 if (lo == 0) != (hi == n):

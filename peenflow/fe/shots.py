@@ -12,8 +12,10 @@ finds exactly when the sphere first touches a top-surface node.
 
 Symmetry: a shot whose centre lies on a symmetric lateral face of the mesh
 (e.g. the corner of a quarter model) is represented by the matching fraction
-of its mass and inertia (1/2 per plane); valid for velocities parallel to
-those planes (normal impact at the corner of a quarter model).
+of its mass and inertia (1/2 per plane), and keeps only the motion its
+mirror half allows (no velocity normal to the plane, no spin about axes in
+it: :mod:`peenflow.fe.contact`); a shot whose motion breaks the symmetry is
+refused.
 """
 
 from __future__ import annotations

@@ -76,7 +76,8 @@ N_EN = 6
 I_STATUS, I_STEPS, I_T_CONTACT, I_T_SEPARATE, I_MAX_APPROACH, I_MAX_OVERLAP = 0, 1, 2, 3, 4, 5
 I_PEAK_FORCE, I_MAX_RADIUS, I_VX, I_VY, I_VZ, I_E_ERR, I_DT_MIN, I_NREC = 6, 7, 8, 9, 10, 11, 12, 13
 I_KE_END, I_VMAX_END, I_SEPARATED, I_DT_START, I_R2_AT_PEAK, I_HG_PEAK = 14, 15, 16, 17, 18, 19
-N_INFO = 20
+I_INT_PEAK = 20  # peak internal energy gained in the phase (J), the pair of I_HG_PEAK
+N_INFO = 21
 
 # record columns: time, force on shot (3, full-shot equivalent), shot centre (3),
 # shot velocity (3), KE target, KE shot, W_int, W_plastic, W_hg, W_visc, E_contact, E_damp, dt
@@ -279,6 +280,7 @@ def run_phase(
     info[I_DT_START] = dt_next * safety
     nrec = 0
     hg_start = energy[E_HG]
+    int_start = energy[E_INT]
     status = ST_OK
     max_err = 0.0
     ke = ke0
@@ -370,6 +372,8 @@ def run_phase(
         energy[E_HG] += wh
         if energy[E_HG] - hg_start > info[I_HG_PEAK]:
             info[I_HG_PEAK] = energy[E_HG] - hg_start
+        if energy[E_INT] - int_start > info[I_INT_PEAK]:
+            info[I_INT_PEAK] = energy[E_INT] - int_start
         energy[E_VISC] += wv
         # after separation the shot's rebound energy (ke_shot frozen at its
         # value when it left) stays in the balance

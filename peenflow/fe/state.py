@@ -23,6 +23,9 @@ SHOT_RECORD_FIELDS = (
     "win_i0", "win_i1", "win_j0", "win_j1", "win_k0", "win_k1",
     "contact_radius",  # Hertz-equivalent radius sqrt(2.5 <r^2>_force) at peak force, m
     "hourglass_peak",  # peak hourglass energy of the impact / impact energy
+    "internal_peak",  # peak internal (stress) energy of the impact / impact energy
+    "spin_in_x", "spin_in_y", "spin_in_z",  # the shot's spin before the impact, rad/s
+    "spin_out_x", "spin_out_y", "spin_out_z",  # and after it (rebound spin), rad/s
 )
 
 

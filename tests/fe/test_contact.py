@@ -87,15 +87,33 @@ def test_hertz_55(hertz55):
 
 def test_hertz_55_without_target_inertia(hertz55):
     """The 55 m/s impact on a target 100x lighter (waves 10x faster, same
-    stiffness, so the same strains): quasi-static Hertz within 3 % (measured
-    -0.9 % approach, +2.1 % force). So the ~4 % of test_hertz_55 is the
-    real target's inertia, and the approach is lower with it."""
+    stiffness, so the same strains): quasi-static Hertz within 3 % on
+    approach, radius and duration (measured -1.0 %, -0.7 %, -0.9 %) and
+    within 4 % on the peak force (+3.4 %; +2.95 % at a/h = 6, so it is the
+    contact's discretisation: test_light_target_force_error_is_discretisation,
+    slow). The earlier +2.1 % force came from the
+    quarter model's shot drifting sideways off its symmetry planes (issue 13
+    section 2; the shot is held on them now). So the ~4 % of test_hertz_55
+    is the real target's inertia, and the approach is lower with it."""
     got, ref, res = hertz_run(55.0, 4, extent=100.0, target_density=78.0)
-    for k in ("delta", "a", "F", "t"):
+    for k in ("delta", "a", "t"):
         assert got[k] == pytest.approx(ref[k], rel=0.03), k
+    assert got["F"] == pytest.approx(ref["F"], rel=0.04)
     heavy = hertz55[0]
     assert heavy["delta"] < got["delta"] * (1 - 0.02)
     assert res.energy_error < 0.01
+
+
+@pytest.mark.slow
+def test_light_target_force_error_is_discretisation():
+    """The +3.4 % peak force of the light target at a/h = 4 (test above) is the
+    contact's discretisation: it falls with refinement (+2.95 % at a/h = 6)
+    and is inside the 3 % the other quantities keep."""
+    coarse, ref, _ = hertz_run(55.0, 4, extent=100.0, target_density=78.0)
+    fine, _, _ = hertz_run(55.0, 6, extent=100.0, target_density=78.0)
+    assert abs(fine["F"] / ref["F"] - 1) < abs(coarse["F"] / ref["F"] - 1)
+    for k in ("delta", "a", "F", "t"):
+        assert fine[k] == pytest.approx(ref[k], rel=0.03), k
 
 
 @pytest.mark.slow

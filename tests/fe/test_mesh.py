@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from peenflow.fe.mesh import BoxMesh, graded_axis, graded_box
+from peenflow.fe.mesh import MAX_GRADING_RATIO, BoxMesh, graded_axis, graded_box
 
 
 def test_graded_axis_fine_zone_then_ratio_at_most_1_2():
@@ -21,8 +21,33 @@ def test_uniform_when_fine_zone_covers_all():
 
 
 def test_rejects_steep_grading():
-    with pytest.raises(ValueError):
-        graded_axis(1e-4, 1e-5, 1e-3, ratio=1.5)
+    with pytest.raises(ValueError, match="ratio = 1.6"):
+        graded_axis(1e-4, 1e-5, 1e-3, ratio=1.6)
+
+
+def test_steeper_grading_up_to_the_bound():
+    # a reference mesh's far field: 1.5 is accepted, the ratio holds and the axis ends exactly
+    a = graded_axis(0.1e-3, 6.25e-6, 2.0e-3, MAX_GRADING_RATIO)
+    d = np.diff(a)
+    assert a[-1] == pytest.approx(2.0e-3, rel=1e-12)
+    growth = d[1:] / d[:-1]
+    assert np.all(growth <= MAX_GRADING_RATIO + 1e-9) and np.all(growth >= 1.0 - 1e-9)
+    assert growth.max() > 1.4  # the steep ratio is actually used
+    assert len(d) < len(np.diff(graded_axis(0.1e-3, 6.25e-6, 2.0e-3, 1.2)))
+
+
+def test_largest_element_cap():
+    a = graded_axis(0.3e-3, 25e-6, 1.29e-3, 1.2, h_max=60e-6)
+    d = np.diff(a)
+    assert a[-1] == pytest.approx(1.29e-3, rel=1e-12)
+    assert d.max() <= 60e-6 * (1 + 1e-9)
+    assert d.max() >= 0.95 * 60e-6  # the cap is reached, the far elements are at it
+    growth = d[1:] / d[:-1]
+    assert np.all(growth <= 1.2 + 1e-9) and np.all(growth >= 1.0 - 1e-9)
+    # without the cap the deep elements are far larger
+    assert np.diff(graded_axis(0.3e-3, 25e-6, 1.29e-3, 1.2)).max() > 100e-6
+    with pytest.raises(ValueError, match="h_max"):
+        graded_axis(0.3e-3, 25e-6, 1.29e-3, 1.2, h_max=20e-6)
 
 
 def test_numbering_mass_and_volume():

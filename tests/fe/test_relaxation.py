@@ -9,7 +9,7 @@ from peenflow.fe.impact import Options, run_impacts
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import graded_box
 from peenflow.fe.model import Model, Target
-from peenflow.fe.multigrid import Multigrid, dot, mask_fixed
+from peenflow.fe.multigrid import ElementMatrices, Multigrid, dot, element_bound, element_matrix, mask_fixed
 from peenflow.fe.relaxation import relax
 from peenflow.fe.shots import Shots
 
@@ -47,11 +47,18 @@ def test_static_matches_strict_relaxation(unrelaxed):
     stress difference 0.5 % of the largest stress -- dynamic relaxation
     overshoots and yields 13 elements a little more (eps_p + 1.7e-4) on its
     way to rest, the static correction yields none. Thresholds ~3x those.
+
+    The cheaper defaults (loose inner solves, ``relax_cg_rtol = 0.3``, and a
+    10x stricter imbalance criterion, STATIC_ENERGY_FACTOR = 1e-3) keep (a)
+    within the same thresholds (measured: profile 1.7e-5, displacements
+    1.5e-6, stresses 0.11 MPa; the old defaults 3.7e-5, 1.7e-6, 0.24 MPa)
+    for 8 V-cycles instead of 16.
     """
     t, mat, st0, e_ref = unrelaxed
     m = Model(t, mat)
     stat, rs = relax(m, st0, Options(), e_ref, 55.0)
-    assert rs.status == S.ST_OK and rs.info[S.I_STEPS] <= 6
+    assert rs.status == S.ST_OK and rs.info[S.I_STEPS] <= 8
+    assert rs.records[:, 1].sum() + 1 <= 10  # V-cycles: one per energy check + CG's further ones
     strict, _ = relax(m, st0, Options(relax_ke_fraction=1e-13, relax_cg_rtol=1e-4), e_ref, 55.0)
     dyn, _ = relax(m, st0, Options(relax_method="dynamic", relax_ke_fraction=1e-11, relax_v_fraction=1e-6), e_ref, 55.0)
     p, ps, pd = _profile(m, stat), _profile(m, strict), _profile(m, dyn)
@@ -114,3 +121,42 @@ def test_free_bottom_falls_back_to_dynamic_relaxation():
     a = run_impacts(t, mat, shots, Options())
     b = run_impacts(t, mat, shots, Options(relax_method="dynamic"))
     assert np.array_equal(a.stress, b.stress) and np.array_equal(a.displacement, b.displacement)
+
+
+def test_element_matrices_span_every_box_size():
+    """Six probed boxes give any box's matrix (to the probe's own accuracy);
+    an element outside that form falls back to probing every size."""
+    mat = Model(box(), Material(**SAE1070)).mat_static
+    em = ElementMatrices(mat, 25e-6)
+    assert em.spanned
+    for h in ((25e-6, 25e-6, 25e-6), (25e-6, 40e-6, 170e-6), (300e-6, 12.5e-6, 6e-6)):
+        k = element_matrix(*h, mat)
+        assert np.abs(em(*h) - k).max() < 1e-9 * np.abs(k).max()
+    # the span check is a real one: a tolerance below the probe's accuracy fails it
+    import peenflow.fe.multigrid as MG
+    saved, MG.SPAN_TOLERANCE = MG.SPAN_TOLERANCE, 1e-16
+    try:
+        em2 = ElementMatrices(mat, 25e-6)
+    finally:
+        MG.SPAN_TOLERANCE = saved
+    assert not em2.spanned
+    h = (25e-6, 40e-6, 170e-6)
+    assert np.array_equal(em2(*h), 0.5 * (element_matrix(*h, mat) + element_matrix(*h, mat).T))
+
+
+def test_element_bound_is_an_upper_bound_of_the_smoother_spectrum():
+    m = Model(box(), Material(**SAE1070))
+    lev = Multigrid(m.mesh, m.bc, m.mat_static).levels[0]
+    bound = element_bound(lev.ke)
+    rng = np.random.default_rng(5)
+    u = rng.standard_normal((len(m.nodes0), 3)) * (lev.dinv != 0)
+    ku = np.empty_like(u)
+    lam = 0.0
+    for _ in range(60):  # power iteration on D^-1 K
+        u /= np.sqrt(dot(u, u))
+        lev.apply(u, ku)
+        z = lev.dinv * ku
+        lam = np.sqrt(dot(z, z))
+        u = z
+    assert lam <= bound * (1 + 1e-12)
+    assert bound < 1.2 * lam  # and a tight one on the fine level
