@@ -48,6 +48,25 @@ N_SHOT = 14
 MIRROR_X, MIRROR_Y = 1, 2
 
 
+@jit(inline="always")
+def _move_node(x, v, n, fixity, ux, uy, uz, to_x, to_v):
+    """Add ``to_x u`` to node ``n``'s position and ``to_v u`` to its velocity,
+    ``u`` less the components its fixity holds; returns that masked ``u``."""
+    if fixity & 1:
+        ux = 0.0
+    if fixity & 2:
+        uy = 0.0
+    if fixity & 4:
+        uz = 0.0
+    x[n, 0] += to_x * ux
+    x[n, 1] += to_x * uy
+    x[n, 2] += to_x * uz
+    v[n, 0] += to_v * ux
+    v[n, 1] += to_v * uy
+    v[n, 2] += to_v * uz
+    return ux, uy, uz
+
+
 @jit
 def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0, nj1, cand, dn):
     """Kinematic sphere contact on top-surface nodes ``i in [ni0, ni1], j in [nj0, nj1]``.
@@ -130,22 +149,7 @@ def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, n
             if ov > max_ov:
                 max_ov = ov
             s = ov / r
-            ux = dx * s
-            uy = dy * s
-            uz = dz * s
-            b = bc[n]
-            if b & 1:
-                ux = 0.0
-            if b & 2:
-                uy = 0.0
-            if b & 4:
-                uz = 0.0
-            x[n, 0] += ux
-            x[n, 1] += uy
-            x[n, 2] += uz
-            v[n, 0] += ux * idt
-            v[n, 1] += uy * idt
-            v[n, 2] += uz * idt
+            ux, uy, uz = _move_node(x, v, n, bc[n], dx * s, dy * s, dz * s, 1.0, idt)
             m = mass[n]
             px += m * ux * idt
             py += m * uy * idt
@@ -238,22 +242,7 @@ def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, n
         # impulse -jt t on the node (masked by its fixities), +jt t on the shot
         # at R n; the shot's share is summed and applied after the loop
         # (Jacobi), so the result does not depend on the node order
-        ux = -jt * tx / m
-        uy = -jt * ty / m
-        uz = -jt * tz / m
-        b = bc[n]
-        if b & 1:
-            ux = 0.0
-        if b & 2:
-            uy = 0.0
-        if b & 4:
-            uz = 0.0
-        v[n, 0] += ux
-        v[n, 1] += uy
-        v[n, 2] += uz
-        x[n, 0] += ux * dt
-        x[n, 1] += uy * dt
-        x[n, 2] += uz * dt
+        ux, uy, uz = _move_node(x, v, n, bc[n], -jt * tx / m, -jt * ty / m, -jt * tz / m, dt, 1.0)
         px = -m * ux
         py = -m * uy
         pz = -m * uz
