@@ -1,4 +1,5 @@
-"""One-point (uniform-strain) hexahedron with Flanagan-Belytschko hourglass control.
+"""One-point (uniform-strain) hexahedron with hourglass control: Flanagan-Belytschko
+stiffness form or physical (assumed-strain) stabilisation.
 
 Per element and step (central difference, forces at ``t_{n+1}``):
 
@@ -24,10 +25,49 @@ Per element and step (central difference, forces at ``t_{n+1}``):
    for a cube of side ``h``); nodal forces ``-sum_a F_a gamma_a,I``. A
    stiffness (not viscous) form is used because residual stresses are read
    at rest, where a viscous form would leave the hourglass modes free.
+   This is the ``"stiffness"`` form (``mat[M_HG_TYPE] = HG_STIFFNESS``).
+5b. Physical form (``"physical"``, assumed-strain stabilisation after
+   Belytschko & Bindeman 1993 (ASQBI) and Puso 2000 (whose enhanced-strain
+   element coincides with it for a box), no coefficient): the hourglass
+   rates are taken to the element frame (Gram-Schmidt of ``g_1, g_2``; the
+   stored forces ``F_a`` live in that frame, so a rigid rotation carries
+   them along instead of leaving them behind in global axes), and each
+   hourglass pattern is given the strain field it represents in a box of
+   half lengths ``a_k = |g_k|`` (``b_k = 1 / a_k``). With ``u_ak = q_ak / 8``
+   the amplitude of mode ``a`` (xi eta, eta zeta, zeta xi, xi eta zeta) in
+   frame component ``k``:
+
+   * bending (normal strains linear across the element): ``e_xx`` from
+     (1, x) and ``e_zz`` from (2, z) vary with eta, ``e_xx`` (3, x) and
+     ``e_yy`` (2, y) with zeta, ``e_yy`` (1, y) and ``e_zz`` (3, z) with
+     xi. The normal strain along the varying direction cannot be
+     represented by the trilinear field, so its stress is condensed out
+     (it is free, as in a bent beam): plane-stress moduli
+     ``C11 = 4 mu (lambda + mu) / (lambda + 2 mu)``, ``C12 = 2 mu lambda /
+     (lambda + 2 mu)``, energy ``V/6 e^T C e``. Pure bending of a box is
+     then exact for any aspect ratio and Poisson's ratio, and there is no
+     volumetric locking (``C`` stays finite as nu -> 1/2);
+   * the shear strains that are real (torsion/warping patterns: ``2 e_xz``
+     from (1, z) and (2, x), ``2 e_yz`` from (1, z) and (3, y), ``2 e_xy``
+     from (2, x) and (3, y)), energy ``V/6 mu gamma^2``; the parasitic
+     in-plane shears of the bending patterns (the cause of shear locking)
+     are left out, as in the assumed-strain elements;
+   * the xi eta zeta mode's normal strain made deviatoric: modulus
+     ``4 mu / 3``, energy ``V/18 (4 mu / 3) e^2``.
+
+   Increments ``dF = K q dt`` follow from these energies (``s = dt V /
+   192``, :func:`_physical_increments`) with the element's tangent: the
+   shear modulus of this step's return ``mu_t = mu g`` (``g`` = actual /
+   elastic deviatoric stress increment, 1 when elastic) and the elastic
+   bulk modulus (``lambda_t = K - 2 mu_t / 3``). A yielding element thus
+   has the hourglass stiffness of the plastic flow it is in, without a
+   floor or a coefficient.
 6. Stable step of the element: highest frequency bounded by
    ``omega^2 = (2 (Q + sqrt(Q^2 + c^2)) / l)^2 + 32 Q_hg c^2 / l^2`` with
    ``l = V / A_max`` (largest face), ``c`` the dilatational speed at the
    current density and ``Q`` the bulk-viscosity term; ``dt_e = 2 / omega``.
+   The physical form replaces ``32 Q_hg`` by its own bound, not below the
+   stiffness form's default (:func:`hourglass_omega2_factor`).
 
 Two implementations of the same element (they agree to round-off, see
 tests/fe/test_element.py):
@@ -155,18 +195,28 @@ def _physical_increments(p1x, p1y, p1z, p2x, p2y, p2z, p3x, p3y, p3z, p4x, p4y, 
     return d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z, d4x, d4y, d4z
 
 
+#: hourglass term of the stable step (x c^2 / l^2) the kernel's stability was measured with: 32 x 0.05
+HG_STEP_TERM = 1.6
+
+
 @jit(inline="always")
 def hourglass_omega2_factor(mat):
     """Highest hourglass frequency as ``omega^2 = factor c^2 / l^2`` (c dilatational speed, l = V / A_max).
 
-    Stiffness form: ``32 Q_hg``. Physical form, bound of the elastic mode
-    stiffnesses over the lumped mass (``l / 2`` = smallest half length):
-    ``4 max(2 mu (3 lambda + 2 mu) / (3 (lambda + 2 mu)), 4 mu / 3) / (lambda + 2 mu)``.
+    Stiffness form: ``32 Q_hg``. Physical form: the bound of its elastic mode
+    stiffnesses over the lumped mass (``l / 2`` = smallest half length),
+    ``4 max(2 mu (3 lambda + 2 mu) / (3 (lambda + 2 mu)), 4 mu / 3) / (lambda + 2 mu)``,
+    but not below :data:`HG_STEP_TERM`. The physical modes lie below the
+    element's volumetric mode (tests/fe/test_hourglass.py), so the step is set
+    by the uniform-strain estimate ``2 c / l``, which a free element's volumetric
+    mode exceeds (omega dt = 2.7 for a cube); the kernel's safety margin was
+    measured with the stiffness form's default term (BENCHMARKS.md 4b, 135
+    cases), so the physical form keeps at least that term and the same step.
     """
     lam = mat[M_LAM]
     mu = mat[M_MU]
     mod = lam + 2.0 * mu
-    phys = 4.0 * max(2.0 * mu * (3.0 * lam + 2.0 * mu) / (3.0 * mod), 4.0 * mu / 3.0) / mod
+    phys = max(4.0 * max(2.0 * mu * (3.0 * lam + 2.0 * mu) / (3.0 * mod), 4.0 * mu / 3.0) / mod, HG_STEP_TERM)
     return phys if mat[M_HG_TYPE] == HG_PHYSICAL else 32.0 * mat[M_HG]
 
 
