@@ -18,12 +18,14 @@ Usage (from the repository root)::
 
 Every run is stored (metrics, CPU s, the command) in
 ``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
-Metrics (see :func:`metrics`): dent depth; dent radius (zero crossing of the
-surface u_z along the plane of incidence, downstream of the deepest point,
-interpolated between nodes); pile-up crest radius and height (parabola
-through the highest node and its neighbours); sigma_xx(z) under the dent
-(mean over the elements whose centroids lie within 50 um of the dent axis,
-a zone every mesh level resolves alike), its peak (parabola), the depth of
+Metrics (see :func:`metrics`, :func:`surface_metrics`): dent depth; dent
+radius (along the plane of incidence: half the distance between the zero
+crossings of the surface u_z either side of the dent, interpolated between
+nodes; from the axis on a quarter model); pile-up crest radius (from the
+dent centre) and height (parabola through the highest downstream node and
+its neighbours); sigma_xx(z) under the dent (mean over the elements whose
+centroids lie within 50 um of the dent axis, its edges on the 25 um grid so
+that every mesh level averages the same zone), its peak (parabola), the depth of
 the peak and of its zero crossing below the peak (interpolated between
 centroids), and the RMS over 0-0.3 mm of the difference to the reference
 profile (interpolated onto the reference's centroid depths) / |reference
@@ -89,24 +91,46 @@ def _parabola_extremum(x, y, i):
     return xv, np.polyval(c, xv)
 
 
+def _crossing(x, u):
+    """First x where u (>0 at x[0]) reaches 0, linear between nodes; x[-1] if never."""
+    j = int(np.argmax(u <= 0.0))
+    if u[j] > 0.0:
+        return x[-1]
+    return x[j - 1] + u[j - 1] / (u[j - 1] - u[j]) * (x[j] - x[j - 1]) if j > 0 else x[0]
+
+
+def surface_metrics(xs, us) -> dict:
+    """Dent and pile-up figures from the surface line y = 0 (x m ascending, u_z m, + into the target).
+
+    Dent centre ``xc``: midway between the zero crossings of u_z on either side of the deepest
+    node (the axis ``x = 0`` where the model is a quarter, x >= 0); dent radius: half their
+    distance (x_down - xc on a quarter model); crest: the highest node downstream and its
+    neighbours' parabola, its radius from xc."""
+    k = int(np.argmax(us))
+    x_down = _crossing(xs[k:], us[k:])
+    if xs[0] < -1e-12:  # half model: the upstream side is there
+        x_up = _crossing(xs[: k + 1][::-1], us[: k + 1][::-1])
+        xc = 0.5 * (x_up + x_down)
+    else:
+        xc = 0.0
+    down = xs >= x_down - 1e-12
+    ic = int(np.argmin(us[down]))
+    x_crest, u_crest = _parabola_extremum(xs[down], us[down], ic)
+    return dict(dent_um=us.max() * 1e6, dent_radius_mm=(x_down - xc) * 1e3, crest_radius_mm=(x_crest - xc) * 1e3,
+                crest_height_um=-u_crest * 1e6, dent_centre_mm=xc * 1e3)
+
+
 def metrics(res, mesh: BoxMesh) -> dict:
     nnx, nny, _ = mesh.shape_nodes
     X = res.nodes[: nnx * nny]
     uz = res.displacement[: nnx * nny, 2]
-    k = int(np.argmax(uz))
-    x0 = X[k, 0]
     row = np.abs(X[:, 1]) < 1e-12  # plane of incidence y = 0
-    xs, us = X[row, 0], uz[row]
-    o = np.argsort(xs)
-    xs, us = xs[o], us[o]
-    down = xs >= x0
-    xd, ud = xs[down] - x0, us[down]
-    j = int(np.argmax(ud <= 0.0))  # first node at or above the surface
-    r_dent = xd[j - 1] + ud[j - 1] / (ud[j - 1] - ud[j]) * (xd[j] - xd[j - 1]) if j > 0 else 0.0
-    ic = int(np.argmin(ud))
-    r_crest, u_crest = _parabola_extremum(xd, ud, ic)
+    o = np.argsort(X[row, 0])
+    xs, us = X[row, 0][o], uz[row][o]
+    out = surface_metrics(xs, us)
+    out["dent_um"] = uz.max() * 1e6  # deepest point anywhere
     c = res.centroids
-    xr = np.round(x0 / 50e-6) * 50e-6
+    xr = np.round(out["dent_centre_mm"] * 1e-3 / 50e-6) * 50e-6  # column edges on the 25 um grid
     col = (np.abs(c[:, 0] - xr) <= AXIS_ZONE) & (np.abs(c[:, 1]) <= AXIS_ZONE) & (c[:, 2] <= 0.5e-3)
     zs = np.unique(np.round(c[col, 2], 12))
     prof = np.array([res.stress[col & (np.abs(c[:, 2] - z) < 1e-12), 0].mean() for z in zs])
@@ -120,12 +144,13 @@ def metrics(res, mesh: BoxMesh) -> dict:
         z_zero = float("nan")
     hist = res.histories[0]
     s = res.shots
-    return dict(dent_um=uz.max() * 1e6, dent_radius_mm=r_dent * 1e3, crest_radius_mm=r_crest * 1e3,
-                crest_height_um=-u_crest * 1e6, sxx_peak_mpa=s_peak / 1e6, sxx_peak_depth_mm=z_peak * 1e3,
-                zero_depth_mm=z_zero * 1e3, restitution=float(s["restitution"][0]),
-                hg_over_int=float(np.max(hist["w_hourglass"]) / np.max(hist["w_int"])),
-                energy_error=float(s["energy_error"][0]), profile_z_mm=(zs * 1e3).tolist(),
-                profile_mpa=(prof / 1e6).tolist())
+    out.update(sxx_peak_mpa=s_peak / 1e6, sxx_peak_depth_mm=z_peak * 1e3,
+               zero_depth_mm=z_zero * 1e3, restitution=float(s["restitution"][0]),
+               hg_over_int=float(np.max(hist["w_hourglass"]) / np.max(hist["w_int"])),
+               energy_error=float(s["energy_error"][0]), profile_z_mm=(zs * 1e3).tolist(),
+               profile_mpa=(prof / 1e6).tolist(), surface_x_mm=(xs * 1e3).tolist(),
+               surface_uz_um=(us * 1e6).tolist())
+    return out
 
 
 def run(case: str, element: str, h_um: float) -> dict:
@@ -286,6 +311,34 @@ def legacy() -> None:
                   + " / ".join(f"{r:.3f}" for r in rest) + " |", flush=True)
 
 
+def summary() -> None:
+    """Largest |error| over the four cases per element size and form (for README's preset lines)."""
+    data = _load()
+    refs = {case: reference(data, case)[0] for case in CASES}
+    print("\n| form | h um | cases | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS | W_hg/W_int peak |")
+    print("|---|---|---|" + "---|" * (len(QUANTITIES) + 2))
+    for element in ELEMENTS:
+        for h in (60, 50, 40, 25, 12.5):
+            worst = {k: 0.0 for k, _, _ in QUANTITIES}
+            rms_w, hg_w, n = 0.0, 0.0, 0
+            for case, ref in refs.items():
+                v = data.get(f"{case}/{element}/{h:g}")
+                if v is None or not ref:
+                    continue
+                n += 1
+                for k, _, kind in QUANTITIES:
+                    e = v[k] - ref[k] if kind == "abs" else v[k] / ref[k] - 1
+                    worst[k] = max(worst[k], abs(e))
+                zr, pr = np.array(ref["profile_z_mm"]), np.array(ref["profile_mpa"])
+                sel = zr <= PROFILE_DEPTH * 1e3
+                p = np.interp(zr[sel], v["profile_z_mm"], v["profile_mpa"])
+                rms_w = max(rms_w, np.sqrt(np.mean((p - pr[sel]) ** 2)) / np.abs(pr[sel]).max())
+                hg_w = max(hg_w, v["hg_over_int"])
+            if n:
+                cells = [f"{worst[k]:.3f}" if kind == "abs" else f"{100 * worst[k]:.1f} %" for k, _, kind in QUANTITIES]
+                print(f"| {element} | {h:g} | {n} | " + " | ".join(cells) + f" | {100 * rms_w:.1f} % | {hg_w:.3f} |")
+
+
 if __name__ == "__main__":
     if sys.argv[1] == "legacy":
         legacy()
@@ -298,3 +351,4 @@ if __name__ == "__main__":
         print(json.dumps({k: v for k, v in out.items() if not k.startswith("profile")}, indent=1))
     else:
         table()
+        summary()

@@ -89,7 +89,7 @@ class Model:
     """Static arrays of a run (built once; not part of the checkpointed state)."""
 
     def __init__(self, target: Target, material: Material, *, hourglass=0.05, hourglass_plastic_floor=0.1,
-                 bulk_linear=0.06, bulk_quadratic=1.5, hourglass_type="stiffness"):
+                 bulk_linear=0.06, bulk_quadratic=1.5, hourglass_type="physical"):
         mesh = target.mesh
         self.target = target
         self.mesh = mesh
