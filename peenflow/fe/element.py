@@ -27,8 +27,9 @@ Per element and step (central difference, forces at ``t_{n+1}``):
    at rest, where a viscous form would leave the hourglass modes free.
    This is the ``"stiffness"`` form (``mat[M_HG_TYPE] = HG_STIFFNESS``).
 5b. Physical form (``"physical"``, assumed-strain stabilisation after
-   Belytschko & Bindeman 1993 (ASQBI) and Puso 2000 (whose enhanced-strain
-   element coincides with it for a box), no coefficient): the hourglass
+   Belytschko & Bindeman 1993 (ASQBI) and Puso 2000 (for an isotropic box
+   the bending and shear terms are those of Puso's enhanced-strain element,
+   the xi eta zeta term is his for a cube), no coefficient): the hourglass
    rates are taken to the element frame (Gram-Schmidt of ``g_1, g_2``; the
    stored forces ``F_a`` live in that frame, so a rigid rotation carries
    them along instead of leaving them behind in global axes), and each
