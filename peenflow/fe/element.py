@@ -1,4 +1,5 @@
-"""One-point (uniform-strain) hexahedron with Flanagan-Belytschko hourglass control.
+"""One-point (uniform-strain) hexahedron with hourglass control: Flanagan-Belytschko
+stiffness form or physical (assumed-strain) stabilisation.
 
 Per element and step (central difference, forces at ``t_{n+1}``):
 
@@ -24,10 +25,50 @@ Per element and step (central difference, forces at ``t_{n+1}``):
    for a cube of side ``h``); nodal forces ``-sum_a F_a gamma_a,I``. A
    stiffness (not viscous) form is used because residual stresses are read
    at rest, where a viscous form would leave the hourglass modes free.
+   This is the ``"stiffness"`` form (``mat[M_HG_TYPE] = HG_STIFFNESS``).
+5b. Physical form (``"physical"``, assumed-strain stabilisation after
+   Belytschko & Bindeman 1993 (ASQBI) and Puso 2000 (for an isotropic box
+   the bending and shear terms are those of Puso's enhanced-strain element,
+   the xi eta zeta term is his for a cube), no coefficient): the hourglass
+   rates are taken to the element frame (Gram-Schmidt of ``g_1, g_2``; the
+   stored forces ``F_a`` live in that frame, so a rigid rotation carries
+   them along instead of leaving them behind in global axes), and each
+   hourglass pattern is given the strain field it represents in a box of
+   half lengths ``a_k = |g_k|`` (``b_k = 1 / a_k``). With ``u_ak = q_ak / 8``
+   the amplitude of mode ``a`` (xi eta, eta zeta, zeta xi, xi eta zeta) in
+   frame component ``k``:
+
+   * bending (normal strains linear across the element): ``e_xx`` from
+     (1, x) and ``e_zz`` from (2, z) vary with eta, ``e_xx`` (3, x) and
+     ``e_yy`` (2, y) with zeta, ``e_yy`` (1, y) and ``e_zz`` (3, z) with
+     xi. The normal strain along the varying direction cannot be
+     represented by the trilinear field, so its stress is condensed out
+     (it is free, as in a bent beam): plane-stress moduli
+     ``C11 = 4 mu (lambda + mu) / (lambda + 2 mu)``, ``C12 = 2 mu lambda /
+     (lambda + 2 mu)``, energy ``V/6 e^T C e``. Pure bending of a box is
+     then exact for any aspect ratio and Poisson's ratio, and there is no
+     volumetric locking (``C`` stays finite as nu -> 1/2);
+   * the shear strains that are real (torsion/warping patterns: ``2 e_xz``
+     from (1, z) and (2, x), ``2 e_yz`` from (1, z) and (3, y), ``2 e_xy``
+     from (2, x) and (3, y)), energy ``V/6 mu gamma^2``; the parasitic
+     in-plane shears of the bending patterns (the cause of shear locking)
+     are left out, as in the assumed-strain elements;
+   * the xi eta zeta mode's normal strain made deviatoric: modulus
+     ``4 mu / 3``, energy ``V/18 (4 mu / 3) e^2``.
+
+   Increments ``dF = K q dt`` follow from these energies (``s = dt V /
+   192``, :func:`_physical_increments`) with the element's tangent: the
+   shear modulus of this step's return ``mu_t = mu g`` (``g`` = actual /
+   elastic deviatoric stress increment, 1 when elastic) and the elastic
+   bulk modulus (``lambda_t = K - 2 mu_t / 3``). A yielding element thus
+   has the hourglass stiffness of the plastic flow it is in, without a
+   floor or a coefficient.
 6. Stable step of the element: highest frequency bounded by
    ``omega^2 = (2 (Q + sqrt(Q^2 + c^2)) / l)^2 + 32 Q_hg c^2 / l^2`` with
    ``l = V / A_max`` (largest face), ``c`` the dilatational speed at the
    current density and ``Q`` the bulk-viscosity term; ``dt_e = 2 / omega``.
+   The physical form replaces ``32 Q_hg`` by its own bound, not below the
+   stiffness form's default (:func:`hourglass_omega2_factor`).
 
 Two implementations of the same element (they agree to round-off, see
 tests/fe/test_element.py):
@@ -62,9 +103,9 @@ from numba import prange
 from peenflow._jit import jit
 import numpy as np
 
-from peenflow.fe.johnson_cook import (M_ADIABATIC, M_BULK_LIN, M_BULK_QUAD, M_HEAT, M_HG, M_HG_FLOOR, M_LAM, M_MU, M_RHO,
-                                      jaumann_trial, plastic_correction, static_flow_stress, stress_update,
-                                      thermal_factor, von_mises)
+from peenflow.fe.johnson_cook import (HG_PHYSICAL, M_ADIABATIC, M_BULK_LIN, M_BULK_QUAD, M_HEAT, M_HG, M_HG_FLOOR,
+                                      M_HG_TYPE, M_LAM, M_MU, M_RHO, jaumann_trial, plastic_correction,
+                                      static_flow_stress, stress_update, thermal_factor, von_mises)
 
 # local node signs (xi, eta, zeta) and the 4 hourglass base vectors
 SX = (-1.0, 1.0, 1.0, -1.0, -1.0, 1.0, 1.0, -1.0)
@@ -79,6 +120,105 @@ H4 = (-1.0, 1.0, -1.0, 1.0, 1.0, -1.0, 1.0, -1.0)  # xi eta zeta
 ST_OK = 0
 ST_NEGATIVE_VOLUME = 2
 ST_DISTORTION = 3
+
+
+@jit(inline="always")
+def _element_frame(g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z):
+    """Co-rotational frame of the element and its inverse half-edge lengths.
+
+    Rows ``e1, e2, e3`` (orthonormal, right-handed): Gram-Schmidt of the
+    covariant vectors ``g1, g2`` (half-edge vectors of the mid-step
+    configuration); ``b_k = 1 / |g_k|`` (1/m). For a rectangular box the frame
+    is the box's axes and ``b_k`` its inverse half lengths.
+    """
+    a1 = math.sqrt(g1x * g1x + g1y * g1y + g1z * g1z)
+    i1 = 1.0 / a1
+    e11 = g1x * i1
+    e12 = g1y * i1
+    e13 = g1z * i1
+    t = g2x * e11 + g2y * e12 + g2z * e13
+    ux = g2x - t * e11
+    uy = g2y - t * e12
+    uz = g2z - t * e13
+    iu = 1.0 / math.sqrt(ux * ux + uy * uy + uz * uz)
+    e21 = ux * iu
+    e22 = uy * iu
+    e23 = uz * iu
+    e31 = e12 * e23 - e13 * e22
+    e32 = e13 * e21 - e11 * e23
+    e33 = e11 * e22 - e12 * e21
+    b1 = i1
+    b2 = 1.0 / math.sqrt(g2x * g2x + g2y * g2y + g2z * g2z)
+    b3 = 1.0 / math.sqrt(g3x * g3x + g3y * g3y + g3z * g3z)
+    return e11, e12, e13, e21, e22, e23, e31, e32, e33, b1, b2, b3
+
+
+@jit(inline="always")
+def _physical_increments(p1x, p1y, p1z, p2x, p2y, p2z, p3x, p3y, p3z, p4x, p4y, p4z, b1, b2, b3, mu_t, bulk, s):
+    """Increments of the 12 hourglass forces (element frame) of the assumed-strain stabilisation.
+
+    ``p_a``: hourglass rates ``sum_I gamma_a,I v_I`` (m/s) in the element
+    frame, modes a = 1..4 = (xi eta, eta zeta, zeta xi, xi eta zeta);
+    ``b_k`` inverse half lengths (1/m); ``mu_t`` tangent shear modulus and
+    ``bulk`` bulk modulus (Pa); ``s = dt V / 192`` (s m^3). Returns the force
+    increments (N), same order. Derivation in the module docstring.
+    """
+    lt = bulk - 2.0 * mu_t / 3.0
+    den = 1.0 / (lt + 2.0 * mu_t)
+    c11 = 4.0 * mu_t * (lt + mu_t) * den  # plane-stress moduli, the bending strain's own direction free
+    c12 = 2.0 * mu_t * lt * den
+    # bending: normal strains linear in eta (xx from mode 1 x, zz from mode 2 z), zeta (xx: 3x, yy: 2y), xi (yy: 1y, zz: 3z)
+    a = p1x * b1
+    c = p2z * b3
+    d1x = s * b1 * (c11 * a + c12 * c)
+    d2z = s * b3 * (c12 * a + c11 * c)
+    a = p3x * b1
+    c = p2y * b2
+    d3x = s * b1 * (c11 * a + c12 * c)
+    d2y = s * b2 * (c12 * a + c11 * c)
+    a = p1y * b2
+    c = p3z * b3
+    d1y = s * b2 * (c11 * a + c12 * c)
+    d3z = s * b3 * (c12 * a + c11 * c)
+    # shear strains the modes represent (torsion, warping): 2 e_xz ~ eta, 2 e_yz ~ xi, 2 e_xy ~ zeta
+    ga = p1z * b1 + p2x * b3
+    gb = p1z * b2 + p3y * b3
+    gc = p2x * b2 + p3y * b1
+    sm = s * mu_t
+    d1z = sm * (b1 * ga + b2 * gb)
+    d2x = sm * (b3 * ga + b2 * gc)
+    d3y = sm * (b3 * gb + b1 * gc)
+    # xi eta zeta mode: its normal strain made deviatoric (modulus 4 mu / 3)
+    s4 = sm * (4.0 / 9.0)
+    d4x = s4 * b1 * b1 * p4x
+    d4y = s4 * b2 * b2 * p4y
+    d4z = s4 * b3 * b3 * p4z
+    return d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z, d4x, d4y, d4z
+
+
+#: hourglass term of the stable step (x c^2 / l^2) the kernel's stability was measured with: 32 x 0.05
+HG_STEP_TERM = 1.6
+
+
+@jit(inline="always")
+def hourglass_omega2_factor(mat):
+    """Highest hourglass frequency as ``omega^2 = factor c^2 / l^2`` (c dilatational speed, l = V / A_max).
+
+    Stiffness form: ``32 Q_hg``. Physical form: the bound of its elastic mode
+    stiffnesses over the lumped mass (``l / 2`` = smallest half length),
+    ``4 max(2 mu (3 lambda + 2 mu) / (3 (lambda + 2 mu)), 4 mu / 3) / (lambda + 2 mu)``,
+    but not below :data:`HG_STEP_TERM`. The physical modes lie below the
+    element's volumetric mode (tests/fe/test_hourglass.py), so the step is set
+    by the uniform-strain estimate ``2 c / l``, which a free element's volumetric
+    mode exceeds (omega dt = 2.7 for a cube); the kernel's safety margin was
+    measured with the stiffness form's default term (BENCHMARKS.md 4b, 135
+    cases), so the physical form keeps at least that term and the same step.
+    """
+    lam = mat[M_LAM]
+    mu = mat[M_MU]
+    mod = lam + 2.0 * mu
+    phys = max(4.0 * max(2.0 * mu * (3.0 * lam + 2.0 * mu) / (3.0 * mod), 4.0 * mu / 3.0) / mod, HG_STEP_TERM)
+    return phys if mat[M_HG_TYPE] == HG_PHYSICAL else 32.0 * mat[M_HG]
 
 
 @jit
@@ -277,7 +417,7 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
         dw_visc = -qb * ev * vol * dt
     qhg = mat[M_HG]
     om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
-    om2 = om * om + 32.0 * qhg * c2 / (lch * lch)
+    om2 = om * om + hourglass_omega2_factor(mat) * c2 / (lch * lch)
     dt_e = 2.0 / math.sqrt(om2)
     # t_k = V (sigma - q I) g^k
     sxx = (n0_ - qb) * vol
@@ -320,48 +460,114 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
     q4x = h4x - 8.0 * (w41 * v1x + w42 * v2x + w43 * v3x)
     q4y = h4y - 8.0 * (w41 * v1y + w42 * v2y + w43 * v3y)
     q4z = h4z - 8.0 * (w41 * v1z + w42 * v2z + w43 * v3z)
-    gsum = d1x * d1x + d1y * d1y + d1z * d1z + d2x * d2x + d2y * d2y + d2z * d2z + d3x * d3x + d3y * d3y + d3z * d3z
-    # hourglass stiffness follows the element's deviatoric tangent: full when
-    # elastic, reduced (not below M_HG_FLOOR) in a yielding element, whose
-    # elastic hourglass stiffness would otherwise stiffen the dent
-    if gr < mat[M_HG_FLOOR]:
-        gr = mat[M_HG_FLOOR]
-    khg = qhg * mod * vol * gsum / 24.0 * dt * gr
     o = hg[e]
-    f1x = o[0] + khg * q1x
-    f1y = o[1] + khg * q1y
-    f1z = o[2] + khg * q1z
-    f2x = o[3] + khg * q2x
-    f2y = o[4] + khg * q2y
-    f2z = o[5] + khg * q2z
-    f3x = o[6] + khg * q3x
-    f3y = o[7] + khg * q3y
-    f3z = o[8] + khg * q3z
-    f4x = o[9] + khg * q4x
-    f4y = o[10] + khg * q4y
-    f4z = o[11] + khg * q4z
-    dw_hg = (
-        0.5
-        * dt
-        * (
-            (o[0] + f1x) * q1x + (o[1] + f1y) * q1y + (o[2] + f1z) * q1z
-            + (o[3] + f2x) * q2x + (o[4] + f2y) * q2y + (o[5] + f2z) * q2z
-            + (o[6] + f3x) * q3x + (o[7] + f3y) * q3y + (o[8] + f3z) * q3z
-            + (o[9] + f4x) * q4x + (o[10] + f4y) * q4y + (o[11] + f4z) * q4z
+    if mat[M_HG_TYPE] == HG_PHYSICAL:
+        # assumed-strain stabilisation in the element frame: rates to the
+        # frame, force increments from the element's tangent (shear modulus
+        # of this step's return, bulk modulus elastic), stored forces stay in
+        # the frame (a rigid rotation carries them along), back to global
+        e11, e12, e13, e21, e22, e23, e31, e32, e33, b1, b2, b3 = _element_frame(
+            g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
+        p1x = e11 * q1x + e12 * q1y + e13 * q1z
+        p1y = e21 * q1x + e22 * q1y + e23 * q1z
+        p1z = e31 * q1x + e32 * q1y + e33 * q1z
+        p2x = e11 * q2x + e12 * q2y + e13 * q2z
+        p2y = e21 * q2x + e22 * q2y + e23 * q2z
+        p2z = e31 * q2x + e32 * q2y + e33 * q2z
+        p3x = e11 * q3x + e12 * q3y + e13 * q3z
+        p3y = e21 * q3x + e22 * q3y + e23 * q3z
+        p3z = e31 * q3x + e32 * q3y + e33 * q3z
+        p4x = e11 * q4x + e12 * q4y + e13 * q4z
+        p4y = e21 * q4x + e22 * q4y + e23 * q4z
+        p4z = e31 * q4x + e32 * q4y + e33 * q4z
+        mu = mat[M_MU]
+        k1x, k1y, k1z, k2x, k2y, k2z, k3x, k3y, k3z, k4x, k4y, k4z = _physical_increments(
+            p1x, p1y, p1z, p2x, p2y, p2z, p3x, p3y, p3z, p4x, p4y, p4z, b1, b2, b3, mu * gr,
+            mat[M_LAM] + 2.0 * mu / 3.0, dt * vol / 192.0)
+        l1x = o[0] + k1x
+        l1y = o[1] + k1y
+        l1z = o[2] + k1z
+        l2x = o[3] + k2x
+        l2y = o[4] + k2y
+        l2z = o[5] + k2z
+        l3x = o[6] + k3x
+        l3y = o[7] + k3y
+        l3z = o[8] + k3z
+        l4x = o[9] + k4x
+        l4y = o[10] + k4y
+        l4z = o[11] + k4z
+        dw_hg = 0.5 * dt * (
+            (o[0] + l1x) * p1x + (o[1] + l1y) * p1y + (o[2] + l1z) * p1z
+            + (o[3] + l2x) * p2x + (o[4] + l2y) * p2y + (o[5] + l2z) * p2z
+            + (o[6] + l3x) * p3x + (o[7] + l3y) * p3y + (o[8] + l3z) * p3z
+            + (o[9] + l4x) * p4x + (o[10] + l4y) * p4y + (o[11] + l4z) * p4z
         )
-    )
-    o[0] = f1x
-    o[1] = f1y
-    o[2] = f1z
-    o[3] = f2x
-    o[4] = f2y
-    o[5] = f2z
-    o[6] = f3x
-    o[7] = f3y
-    o[8] = f3z
-    o[9] = f4x
-    o[10] = f4y
-    o[11] = f4z
+        o[0] = l1x
+        o[1] = l1y
+        o[2] = l1z
+        o[3] = l2x
+        o[4] = l2y
+        o[5] = l2z
+        o[6] = l3x
+        o[7] = l3y
+        o[8] = l3z
+        o[9] = l4x
+        o[10] = l4y
+        o[11] = l4z
+        f1x = e11 * l1x + e21 * l1y + e31 * l1z
+        f1y = e12 * l1x + e22 * l1y + e32 * l1z
+        f1z = e13 * l1x + e23 * l1y + e33 * l1z
+        f2x = e11 * l2x + e21 * l2y + e31 * l2z
+        f2y = e12 * l2x + e22 * l2y + e32 * l2z
+        f2z = e13 * l2x + e23 * l2y + e33 * l2z
+        f3x = e11 * l3x + e21 * l3y + e31 * l3z
+        f3y = e12 * l3x + e22 * l3y + e32 * l3z
+        f3z = e13 * l3x + e23 * l3y + e33 * l3z
+        f4x = e11 * l4x + e21 * l4y + e31 * l4z
+        f4y = e12 * l4x + e22 * l4y + e32 * l4z
+        f4z = e13 * l4x + e23 * l4y + e33 * l4z
+    else:
+        gsum = d1x * d1x + d1y * d1y + d1z * d1z + d2x * d2x + d2y * d2y + d2z * d2z + d3x * d3x + d3y * d3y + d3z * d3z
+        # hourglass stiffness follows the element's deviatoric tangent: full when
+        # elastic, reduced (not below M_HG_FLOOR) in a yielding element, whose
+        # elastic hourglass stiffness would otherwise stiffen the dent
+        if gr < mat[M_HG_FLOOR]:
+            gr = mat[M_HG_FLOOR]
+        khg = qhg * mod * vol * gsum / 24.0 * dt * gr
+        f1x = o[0] + khg * q1x
+        f1y = o[1] + khg * q1y
+        f1z = o[2] + khg * q1z
+        f2x = o[3] + khg * q2x
+        f2y = o[4] + khg * q2y
+        f2z = o[5] + khg * q2z
+        f3x = o[6] + khg * q3x
+        f3y = o[7] + khg * q3y
+        f3z = o[8] + khg * q3z
+        f4x = o[9] + khg * q4x
+        f4y = o[10] + khg * q4y
+        f4z = o[11] + khg * q4z
+        dw_hg = (
+            0.5
+            * dt
+            * (
+                (o[0] + f1x) * q1x + (o[1] + f1y) * q1y + (o[2] + f1z) * q1z
+                + (o[3] + f2x) * q2x + (o[4] + f2y) * q2y + (o[5] + f2z) * q2z
+                + (o[6] + f3x) * q3x + (o[7] + f3y) * q3y + (o[8] + f3z) * q3z
+                + (o[9] + f4x) * q4x + (o[10] + f4y) * q4y + (o[11] + f4z) * q4z
+            )
+        )
+        o[0] = f1x
+        o[1] = f1y
+        o[2] = f1z
+        o[3] = f2x
+        o[4] = f2y
+        o[5] = f2z
+        o[6] = f3x
+        o[7] = f3y
+        o[8] = f3z
+        o[9] = f4x
+        o[10] = f4y
+        o[11] = f4z
     for I in range(8):
         n = nodes[I]
         a = SX[I]
@@ -508,7 +714,9 @@ _WAK = 48  # 12: w_ak
 _QA = 60  # 12: hourglass rates q_a
 _EWI = 72  # internal work
 _EWH = 73  # hourglass work
-_NLANE = 74
+_FRM = 74  # 9: element frame rows e1 e2 e3 (physical hourglass; identity for the stiffness form)
+_BK = 83  # 3: inverse half lengths 1/|g_k|
+_NLANE = 86
 _NSCR = _L0 + _NLANE * BLOCK
 
 
@@ -598,6 +806,13 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
     qhg = mat[M_HG]
     hgfloor = mat[M_HG_FLOOR]
     khgc = qhg * mod
+    hgom = hourglass_omega2_factor(mat)
+    # hourglass form as 0/1 weights (loop invariant; the lane loops blend
+    # instead of branching, and with weight 0 the other form's terms add
+    # exact zeros, so the stiffness form is bit-identical to its old code)
+    wph = 1.0 if mat[M_HG_TYPE] == HG_PHYSICAL else 0.0
+    wfb = 1.0 - wph
+    bulk = lam + 2.0 * mu / 3.0
     ebase = nx * (j + ny * k)
     nbase = nnx * (j + nny * k)
     for ib in range(i0, i1, B):
@@ -744,7 +959,22 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             w[_L0 + _QB * B + l] = qb
             w[_L0 + _EWV * B + l] = -qb * ev * vol * dt
             om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
-            w[_L0 + _DTE * B + l] = 2.0 / math.sqrt(om * om + 32.0 * qhg * c2 / (lch * lch))
+            w[_L0 + _DTE * B + l] = 2.0 / math.sqrt(om * om + hgom * c2 / (lch * lch))
+            # element frame (physical hourglass) blended with the identity (stiffness form)
+            e11, e12, e13, e21, e22, e23, e31, e32, e33, b1, b2, b3 = _element_frame(
+                g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
+            w[_L0 + _FRM * B + l] = wph * e11 + wfb
+            w[_L0 + (_FRM + 1) * B + l] = wph * e12
+            w[_L0 + (_FRM + 2) * B + l] = wph * e13
+            w[_L0 + (_FRM + 3) * B + l] = wph * e21
+            w[_L0 + (_FRM + 4) * B + l] = wph * e22 + wfb
+            w[_L0 + (_FRM + 5) * B + l] = wph * e23
+            w[_L0 + (_FRM + 6) * B + l] = wph * e31
+            w[_L0 + (_FRM + 7) * B + l] = wph * e32
+            w[_L0 + (_FRM + 8) * B + l] = wph * e33 + wfb
+            w[_L0 + _BK * B + l] = b1
+            w[_L0 + (_BK + 1) * B + l] = b2
+            w[_L0 + (_BK + 2) * B + l] = b3
             # hourglass: w_ak = (s_a . g^k)/8, q_a = h_a - sum_k w_ak V_k
             w11 = (s1x * d1x + s1y * d1y + s1z * d1z) * r8
             w12 = (s1x * d2x + s1y * d2y + s1z * d2z) * r8
@@ -855,9 +1085,21 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             t3x = (sxx * d3x + sxy * d3y + sxz * d3z) * r8
             t3y = (sxy * d3x + syy * d3y + syz * d3z) * r8
             t3z = (sxz * d3x + syz * d3y + szz * d3z) * r8
-            # hourglass forces F_a += k_hg q_a dt; stiffness follows the element's
-            # deviatoric tangent (reduced, not below the floor, when yielding)
-            khg = w[_L0 + _KHG * B + l] * max(w[_L0 + _GR * B + l], hgfloor)
+            # hourglass forces. Stiffness form: F_a += k_hg q_a dt, k_hg following the
+            # element's deviatoric tangent (not below the floor). Physical form:
+            # rates to the element frame, increments from the assumed-strain
+            # stiffness at the tangent shear modulus, forces kept in the frame.
+            gr = w[_L0 + _GR * B + l]
+            khg = w[_L0 + _KHG * B + l] * max(gr, hgfloor) * wfb
+            r11 = w[_L0 + _FRM * B + l]
+            r12 = w[_L0 + (_FRM + 1) * B + l]
+            r13 = w[_L0 + (_FRM + 2) * B + l]
+            r21 = w[_L0 + (_FRM + 3) * B + l]
+            r22 = w[_L0 + (_FRM + 4) * B + l]
+            r23 = w[_L0 + (_FRM + 5) * B + l]
+            r31 = w[_L0 + (_FRM + 6) * B + l]
+            r32 = w[_L0 + (_FRM + 7) * B + l]
+            r33 = w[_L0 + (_FRM + 8) * B + l]
             o0 = w[_L0 + _HG * B + l]
             o1 = w[_L0 + (_HG + 1) * B + l]
             o2 = w[_L0 + (_HG + 2) * B + l]
@@ -870,30 +1112,46 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             o9 = w[_L0 + (_HG + 9) * B + l]
             o10 = w[_L0 + (_HG + 10) * B + l]
             o11 = w[_L0 + (_HG + 11) * B + l]
-            q1x = w[_L0 + _QA * B + l]
-            q1y = w[_L0 + (_QA + 1) * B + l]
-            q1z = w[_L0 + (_QA + 2) * B + l]
-            q2x = w[_L0 + (_QA + 3) * B + l]
-            q2y = w[_L0 + (_QA + 4) * B + l]
-            q2z = w[_L0 + (_QA + 5) * B + l]
-            q3x = w[_L0 + (_QA + 6) * B + l]
-            q3y = w[_L0 + (_QA + 7) * B + l]
-            q3z = w[_L0 + (_QA + 8) * B + l]
-            q4x = w[_L0 + (_QA + 9) * B + l]
-            q4y = w[_L0 + (_QA + 10) * B + l]
-            q4z = w[_L0 + (_QA + 11) * B + l]
-            f1x = o0 + khg * q1x
-            f1y = o1 + khg * q1y
-            f1z = o2 + khg * q1z
-            f2x = o3 + khg * q2x
-            f2y = o4 + khg * q2y
-            f2z = o5 + khg * q2z
-            f3x = o6 + khg * q3x
-            f3y = o7 + khg * q3y
-            f3z = o8 + khg * q3z
-            f4x = o9 + khg * q4x
-            f4y = o10 + khg * q4y
-            f4z = o11 + khg * q4z
+            g1x_ = w[_L0 + _QA * B + l]
+            g1y_ = w[_L0 + (_QA + 1) * B + l]
+            g1z_ = w[_L0 + (_QA + 2) * B + l]
+            g2x_ = w[_L0 + (_QA + 3) * B + l]
+            g2y_ = w[_L0 + (_QA + 4) * B + l]
+            g2z_ = w[_L0 + (_QA + 5) * B + l]
+            g3x_ = w[_L0 + (_QA + 6) * B + l]
+            g3y_ = w[_L0 + (_QA + 7) * B + l]
+            g3z_ = w[_L0 + (_QA + 8) * B + l]
+            g4x_ = w[_L0 + (_QA + 9) * B + l]
+            g4y_ = w[_L0 + (_QA + 10) * B + l]
+            g4z_ = w[_L0 + (_QA + 11) * B + l]
+            q1x = r11 * g1x_ + r12 * g1y_ + r13 * g1z_
+            q1y = r21 * g1x_ + r22 * g1y_ + r23 * g1z_
+            q1z = r31 * g1x_ + r32 * g1y_ + r33 * g1z_
+            q2x = r11 * g2x_ + r12 * g2y_ + r13 * g2z_
+            q2y = r21 * g2x_ + r22 * g2y_ + r23 * g2z_
+            q2z = r31 * g2x_ + r32 * g2y_ + r33 * g2z_
+            q3x = r11 * g3x_ + r12 * g3y_ + r13 * g3z_
+            q3y = r21 * g3x_ + r22 * g3y_ + r23 * g3z_
+            q3z = r31 * g3x_ + r32 * g3y_ + r33 * g3z_
+            q4x = r11 * g4x_ + r12 * g4y_ + r13 * g4z_
+            q4y = r21 * g4x_ + r22 * g4y_ + r23 * g4z_
+            q4z = r31 * g4x_ + r32 * g4y_ + r33 * g4z_
+            k1x, k1y, k1z, k2x, k2y, k2z, k3x, k3y, k3z, k4x, k4y, k4z = _physical_increments(
+                q1x, q1y, q1z, q2x, q2y, q2z, q3x, q3y, q3z, q4x, q4y, q4z,
+                w[_L0 + _BK * B + l], w[_L0 + (_BK + 1) * B + l], w[_L0 + (_BK + 2) * B + l],
+                mu * gr, bulk, dt * vol / 192.0 * wph)
+            f1x = o0 + (khg * q1x + k1x)
+            f1y = o1 + (khg * q1y + k1y)
+            f1z = o2 + (khg * q1z + k1z)
+            f2x = o3 + (khg * q2x + k2x)
+            f2y = o4 + (khg * q2y + k2y)
+            f2z = o5 + (khg * q2z + k2z)
+            f3x = o6 + (khg * q3x + k3x)
+            f3y = o7 + (khg * q3y + k3y)
+            f3z = o8 + (khg * q3z + k3z)
+            f4x = o9 + (khg * q4x + k4x)
+            f4y = o10 + (khg * q4y + k4y)
+            f4z = o11 + (khg * q4z + k4z)
             w[_L0 + _EWH * B + l] = 0.5 * dt * ((o0 + f1x) * q1x + (o1 + f1y) * q1y + (o2 + f1z) * q1z
                                                 + (o3 + f2x) * q2x + (o4 + f2y) * q2y + (o5 + f2z) * q2z
                                                 + (o6 + f3x) * q3x + (o7 + f3y) * q3y + (o8 + f3z) * q3z
@@ -910,6 +1168,27 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             w[_L0 + (_HG + 9) * B + l] = f4x
             w[_L0 + (_HG + 10) * B + l] = f4y
             w[_L0 + (_HG + 11) * B + l] = f4z
+            # stored forces are in the element frame; the nodal forces need them global
+            t = f1x
+            u = f1y
+            f1x = r11 * t + r21 * u + r31 * f1z
+            f1y = r12 * t + r22 * u + r32 * f1z
+            f1z = r13 * t + r23 * u + r33 * f1z
+            t = f2x
+            u = f2y
+            f2x = r11 * t + r21 * u + r31 * f2z
+            f2y = r12 * t + r22 * u + r32 * f2z
+            f2z = r13 * t + r23 * u + r33 * f2z
+            t = f3x
+            u = f3y
+            f3x = r11 * t + r21 * u + r31 * f3z
+            f3y = r12 * t + r22 * u + r32 * f3z
+            f3z = r13 * t + r23 * u + r33 * f3z
+            t = f4x
+            u = f4y
+            f4x = r11 * t + r21 * u + r31 * f4z
+            f4y = r12 * t + r22 * u + r32 * f4z
+            f4z = r13 * t + r23 * u + r33 * f4z
             # nodal forces -(sum_k t_k grad-sign_k + sum_a F_a gamma_a) with
             # gamma_a = H_a - sum_k w_ak xi_k: collect the xi_k parts first
             w11 = w[_L0 + _WAK * B + l]

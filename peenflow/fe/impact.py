@@ -110,7 +110,13 @@ class Options:
 
     dt_safety : fraction of the stable step (recomputed every step).
     friction : Coulomb coefficient shot/target (paper: 0.2).
-    hourglass : Flanagan-Belytschko stiffness coefficient Q_hg.
+    hourglass_type : hourglass control of the one-point hexahedron: "physical"
+      (default: assumed-strain stabilisation from the element's elastic-plastic
+      tangent, co-rotational, no coefficient; pure bending exact; single-impact
+      errors BENCHMARKS.md section 4c) or "stiffness" (Flanagan-Belytschko
+      stiffness form with ``hourglass`` and ``hourglass_plastic_floor``, the
+      default before 2026-12: dent -5.8 % instead of -2.4 % at 25 um, 55 m/s).
+    hourglass : Flanagan-Belytschko stiffness coefficient Q_hg (stiffness form only).
     hourglass_plastic_floor : lowest factor on the hourglass stiffness of a
       yielding element (the factor is the element's actual/elastic deviatoric
       stress increment; 1 = plain elastic hourglass stiffness).
@@ -179,6 +185,7 @@ class Options:
 
     dt_safety: float = 0.9
     friction: float = 0.2
+    hourglass_type: str = "physical"
     hourglass: float = 0.05
     hourglass_plastic_floor: float = 0.1
     bulk_linear: float = 0.06
@@ -244,7 +251,8 @@ class Options:
                 f"precision={self.precision!r}: only 'float64' is implemented. float32 state was measured "
                 "(BENCHMARKS.md section 1: ~19 % less CPU per impact, residual stresses within 1e-5) but not "
                 "adopted: it needs a dtype-generic solver and a second, uncached copy of the element kernel")
-        for name, allowed in (("relax_method", ("static", "dynamic")), ("window_boundary", ("held", "viscous-spring")),
+        for name, allowed in (("hourglass_type", ("physical", "stiffness")),
+                              ("relax_method", ("static", "dynamic")), ("window_boundary", ("held", "viscous-spring")),
                               ("boundary_settle", ("spring", "viscous-spring", "held"))):
             if getattr(self, name) not in allowed:
                 raise ValueError(f"Options.{name} = {getattr(self, name)!r}: expected one of {allowed}")
@@ -478,7 +486,7 @@ def run_impacts(
         runaway energy, or a phase that never settles.
     """
     t_wall = _time.perf_counter()
-    model = Model(target, material, hourglass=options.hourglass,
+    model = Model(target, material, hourglass=options.hourglass, hourglass_type=options.hourglass_type,
                   hourglass_plastic_floor=options.hourglass_plastic_floor, bulk_linear=options.bulk_linear,
                   bulk_quadratic=options.bulk_quadratic)
     if state is None:

@@ -49,8 +49,13 @@ from peenflow._jit import jit
 # indices into the material vector
 M_LAM, M_MU, M_RHO, M_A, M_B, M_N, M_C, M_RATE0, M_M = 0, 1, 2, 3, 4, 5, 6, 7, 8
 M_TROOM, M_TMELT, M_HEAT, M_RATE_ON, M_THERMAL_ON, M_ADIABATIC = 9, 10, 11, 12, 13, 14
-M_BULK_LIN, M_BULK_QUAD, M_HG, M_HG_FLOOR = 15, 16, 17, 18
-N_MAT = 19
+M_BULK_LIN, M_BULK_QUAD, M_HG, M_HG_FLOOR, M_HG_TYPE = 15, 16, 17, 18, 19
+N_MAT = 20
+
+# hourglass control of the one-point hexahedron (value of mat[M_HG_TYPE], see element.py)
+HG_STIFFNESS = 0  # Flanagan-Belytschko stiffness: coefficient Q_hg, plastic floor
+HG_PHYSICAL = 1  # assumed-strain physical stabilisation (no coefficient), co-rotational
+HOURGLASS_TYPES = {"stiffness": HG_STIFFNESS, "physical": HG_PHYSICAL}
 
 
 @dataclass(frozen=True)
@@ -135,8 +140,15 @@ class Material:
         return self.m > 0 and (self.adiabatic or self.initial_temperature > self.T_room)
 
     def to_array(self, bulk_linear: float = 0.06, bulk_quadratic: float = 1.5, hourglass: float = 0.05,
-                 hourglass_plastic_floor: float = 0.1) -> np.ndarray:
-        """The float64 material vector the numba kernels read (see ``M_*``)."""
+                 hourglass_plastic_floor: float = 0.1, hourglass_type: str = "stiffness") -> np.ndarray:
+        """The float64 material vector the numba kernels read (see ``M_*``).
+
+        ``hourglass_type``: "stiffness" (Flanagan-Belytschko, uses ``hourglass``
+        and ``hourglass_plastic_floor``) or "physical" (assumed-strain
+        stabilisation; ignores both).
+        """
+        if hourglass_type not in HOURGLASS_TYPES:
+            raise ValueError(f"hourglass_type = {hourglass_type!r}: expected one of {tuple(HOURGLASS_TYPES)}")
         a = np.zeros(N_MAT)
         a[M_LAM], a[M_MU], a[M_RHO] = self.lam, self.mu, self.density
         a[M_A], a[M_B], a[M_N], a[M_C], a[M_RATE0], a[M_M] = self.A, self.B, self.n, self.C, self.ref_strain_rate, self.m
@@ -147,6 +159,7 @@ class Material:
         a[M_ADIABATIC] = 1.0 if (self.adiabatic and self.m > 0) else 0.0
         a[M_BULK_LIN], a[M_BULK_QUAD], a[M_HG] = bulk_linear, bulk_quadratic, hourglass
         a[M_HG_FLOOR] = hourglass_plastic_floor
+        a[M_HG_TYPE] = HOURGLASS_TYPES[hourglass_type]
         return a
 
     def flow_stress(self, eps_p, rate=0.0, T=None):

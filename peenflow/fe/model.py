@@ -89,7 +89,7 @@ class Model:
     """Static arrays of a run (built once; not part of the checkpointed state)."""
 
     def __init__(self, target: Target, material: Material, *, hourglass=0.05, hourglass_plastic_floor=0.1,
-                 bulk_linear=0.06, bulk_quadratic=1.5):
+                 bulk_linear=0.06, bulk_quadratic=1.5, hourglass_type="physical"):
         mesh = target.mesh
         self.target = target
         self.mesh = mesh
@@ -115,7 +115,7 @@ class Model:
             self.period = None
         #: lumped nodal masses (kg); periodic: a master's includes its slaves', a slave's is 0
         self.mass = mass
-        self.mat = material.to_array(bulk_linear, bulk_quadratic, hourglass, hourglass_plastic_floor)
+        self.mat = material.to_array(bulk_linear, bulk_quadratic, hourglass, hourglass_plastic_floor, hourglass_type)
         self.mat_static = self.mat.copy()
         self.mat_static[M_RATE_ON] = 0.0
         self.nx, self.ny, self.nz = mesh.shape_elements

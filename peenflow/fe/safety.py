@@ -33,7 +33,8 @@ _MESSAGES = {
     _s.ST_DISTORTION: (
         "excessive element distortion (volume ratio V/V0 outside [0.1, 10])",
         "the mesh is too coarse for the shot velocity, or hourglass modes grew unchecked",
-        "refine the mesh under the impact or raise options.hourglass (e.g. 0.1)",
+        "refine the mesh under the impact (with options.hourglass_type = 'stiffness': raise "
+        "options.hourglass, e.g. 0.1)",
     ),
     _s.ST_NAN: (
         "NaN or Inf appeared in the state",

@@ -1,0 +1,358 @@
+"""Single-impact accuracy of the two hourglass controls against a converged reference (issue 13 §1).
+
+Cases (rate term off, friction 0.2, S230 shot D = 0.58 mm, 7800 kg/m^3):
+25 and 55 m/s normal and 55 m/s at 45 deg on SAE 1070; 47 m/s at 65 deg on
+Al 7075-T73 (the paper's Table 2). Target: the 6D x 6D x 1.29 mm block,
+fixed bottom, symmetric sides, no window; normal impacts on the quarter
+model, oblique ones on the half model (both equal the full block to 1e-5,
+tests/fe/test_symmetry.py). Fine zone of cubic elements ``h`` to 0.3 mm
+laterally (0.45 mm along the stream for oblique shots) and 0.3 mm deep,
+graded 1.2 outside.
+
+Usage (from the repository root)::
+
+    PYTHONPATH=. python benchmarks/bench_hourglass.py run CASE ELEMENT H_UM   # one run, stored in the json
+    PYTHONPATH=. python benchmarks/bench_hourglass.py table                   # the table of BENCHMARKS.md 4c
+    PYTHONPATH=. python benchmarks/bench_hourglass.py cost                    # CPU per element update, both forms
+    PYTHONPATH=. python benchmarks/bench_hourglass.py legacy                  # both forms on the setup of section 4
+
+Every run is stored (metrics, CPU s, the command) in
+``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
+Metrics (see :func:`metrics`, :func:`surface_metrics`): dent depth; dent
+radius (along the plane of incidence: half the distance between the zero
+crossings of the surface u_z either side of the dent, interpolated between
+nodes; from the axis on a quarter model); pile-up crest radius (from the
+dent centre) and height (parabola through the highest downstream node and
+its neighbours); sigma_xx(z) under the dent (mean over the elements whose
+centroids lie within 50 um of the dent axis, its edges on the 25 um grid so
+that every mesh level averages the same zone), its peak (parabola), the depth of
+the peak and of its zero crossing below the peak (interpolated between
+centroids), and the RMS over 0-0.3 mm of the difference to the reference
+profile (interpolated onto the reference's centroid depths) / |reference
+peak|; restitution; peak hourglass energy / peak internal energy.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from peenflow.fe.impact import Options, run_impacts
+from peenflow.fe.johnson_cook import Material
+from peenflow.fe.mesh import BoxMesh, graded_axis
+from peenflow.fe.model import Target
+from peenflow.fe.shots import Shots
+
+R = 0.29e-3
+D = 2 * R
+SAE1070 = dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0, m=0.0)
+AL7075 = dict(E=71e9, nu=0.33, density=2780.0, A=434e6, B=303.58e6, n=0.39, C=0.0, m=0.0)
+CASES = {  # name: (material, speed m/s, angle to the surface deg)
+    "sae-25-90": (SAE1070, 25.0, 90.0),
+    "sae-55-90": (SAE1070, 55.0, 90.0),
+    "sae-55-45": (SAE1070, 55.0, 45.0),
+    "al-47-65": (AL7075, 47.0, 65.0),
+}
+ELEMENTS = {  # name: Options fields
+    "stiffness": dict(hourglass_type="stiffness", hourglass=0.05, hourglass_plastic_floor=0.1),
+    "physical": dict(hourglass_type="physical"),
+}
+STORE = Path(__file__).resolve().parent / "reference" / "hourglass.json"
+AXIS_ZONE = 50e-6  # half width of the column averaged for sigma_xx(z), m
+PROFILE_DEPTH = 0.3e-3
+
+
+def block(h: float, oblique: bool) -> BoxMesh:
+    """Quarter (normal) or half (oblique; y >= 0) model of the 6D x 6D x 1.29 mm block."""
+    half, depth, fine_depth = 3 * D, 1.29e-3, PROFILE_DEPTH
+    lat = graded_axis(0.3e-3, h, half, 1.2)
+    z = graded_axis(fine_depth, h, depth, 1.2)
+    if not oblique:
+        return BoxMesh(lat, lat.copy(), z)
+    along = graded_axis(0.45e-3, h, half, 1.2)
+    return BoxMesh(np.concatenate([-along[::-1], along[1:]]), lat, z)
+
+
+def _parabola_extremum(x, y, i):
+    """Vertex of the parabola through points i-1, i, i+1 (x, y); the point itself at an end."""
+    if i <= 0 or i >= len(x) - 1:
+        return x[i], y[i]
+    (x0, x1, x2), (y0, y1, y2) = x[i - 1: i + 2], y[i - 1: i + 2]
+    c = np.polyfit([x0, x1, x2], [y0, y1, y2], 2)
+    if c[0] == 0:
+        return x1, y1
+    xv = -c[1] / (2 * c[0])
+    xv = min(max(xv, x0), x2)
+    return xv, np.polyval(c, xv)
+
+
+def _crossing(x, u):
+    """First x where u (>0 at x[0]) reaches 0, linear between nodes; x[-1] if never."""
+    j = int(np.argmax(u <= 0.0))
+    if u[j] > 0.0:
+        return x[-1]
+    return x[j - 1] + u[j - 1] / (u[j - 1] - u[j]) * (x[j] - x[j - 1]) if j > 0 else x[0]
+
+
+def surface_metrics(xs, us) -> dict:
+    """Dent and pile-up figures from the surface line y = 0 (x m ascending, u_z m, + into the target).
+
+    Dent centre ``xc``: midway between the zero crossings of u_z on either side of the deepest
+    node (the axis ``x = 0`` where the model is a quarter, x >= 0); dent radius: half their
+    distance (x_down - xc on a quarter model); crest: the highest node downstream and its
+    neighbours' parabola, its radius from xc."""
+    k = int(np.argmax(us))
+    x_down = _crossing(xs[k:], us[k:])
+    if xs[0] < -1e-12:  # half model: the upstream side is there
+        x_up = _crossing(xs[: k + 1][::-1], us[: k + 1][::-1])
+        xc = 0.5 * (x_up + x_down)
+    else:
+        xc = 0.0
+    down = xs >= x_down - 1e-12
+    ic = int(np.argmin(us[down]))
+    x_crest, u_crest = _parabola_extremum(xs[down], us[down], ic)
+    return dict(dent_um=us.max() * 1e6, dent_radius_mm=(x_down - xc) * 1e3, crest_radius_mm=(x_crest - xc) * 1e3,
+                crest_height_um=-u_crest * 1e6, dent_centre_mm=xc * 1e3)
+
+
+def metrics(res, mesh: BoxMesh) -> dict:
+    nnx, nny, _ = mesh.shape_nodes
+    X = res.nodes[: nnx * nny]
+    uz = res.displacement[: nnx * nny, 2]
+    row = np.abs(X[:, 1]) < 1e-12  # plane of incidence y = 0
+    o = np.argsort(X[row, 0])
+    xs, us = X[row, 0][o], uz[row][o]
+    out = surface_metrics(xs, us)
+    out["dent_um"] = uz.max() * 1e6  # deepest point anywhere
+    c = res.centroids
+    xr = np.round(out["dent_centre_mm"] * 1e-3 / 50e-6) * 50e-6  # column edges on the 25 um grid
+    col = (np.abs(c[:, 0] - xr) <= AXIS_ZONE) & (np.abs(c[:, 1]) <= AXIS_ZONE) & (c[:, 2] <= 0.5e-3)
+    zs = np.unique(np.round(c[col, 2], 12))
+    prof = np.array([res.stress[col & (np.abs(c[:, 2] - z) < 1e-12), 0].mean() for z in zs])
+    ip = int(np.argmin(prof))
+    z_peak, s_peak = _parabola_extremum(zs, prof, ip)
+    after = np.nonzero(prof[ip:] >= 0.0)[0]
+    if len(after):
+        m = ip + after[0]
+        z_zero = zs[m - 1] + (0 - prof[m - 1]) / (prof[m] - prof[m - 1]) * (zs[m] - zs[m - 1])
+    else:
+        z_zero = float("nan")
+    hist = res.histories[0]
+    s = res.shots
+    out.update(sxx_peak_mpa=s_peak / 1e6, sxx_peak_depth_mm=z_peak * 1e3,
+               zero_depth_mm=z_zero * 1e3, restitution=float(s["restitution"][0]),
+               hg_over_int=float(np.max(hist["w_hourglass"]) / np.max(hist["w_int"])),
+               energy_error=float(s["energy_error"][0]), profile_z_mm=(zs * 1e3).tolist(),
+               profile_mpa=(prof / 1e6).tolist(), surface_x_mm=(xs * 1e3).tolist(),
+               surface_uz_um=(us * 1e6).tolist())
+    return out
+
+
+def run(case: str, element: str, h_um: float) -> dict:
+    mat, speed, angle = CASES[case]
+    oblique = angle != 90.0
+    mesh = block(h_um * 1e-6, oblique)
+    th = np.radians(angle)
+    shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[speed * np.array([np.cos(th), 0.0, np.sin(th)])],
+                  radius=R, density=7800.0)
+    opt = Options(window=False, record=True, record_every=20, **ELEMENTS[element])
+    # compile (or load) the kernels outside the timing: a tiny impact on a 100 um mesh
+    tiny = BoxMesh(*(np.arange(5) * 1e-4,) * 2, np.arange(4) * 1e-4)
+    run_impacts(Target(tiny), Material(**mat), Shots(centres=[[0, 0, -R - 1e-6]], velocities=[[0, 0, 5.0]],
+                                                     radius=R, density=7800.0), opt)
+    t0 = time.process_time()
+    w0 = time.perf_counter()
+    res = run_impacts(Target(mesh), Material(**mat), shots, opt)
+    out = metrics(res, mesh)
+    out.update(cpu_s=time.process_time() - t0, wall_s=time.perf_counter() - w0, elements=mesh.n_elements,
+               command=f"PYTHONPATH=. python benchmarks/bench_hourglass.py run {case} {element} {h_um:g}")
+    return out
+
+
+def _load() -> dict:
+    return json.loads(STORE.read_text()) if STORE.exists() else {}
+
+
+def _store(key: str, value: dict) -> None:
+    STORE.parent.mkdir(parents=True, exist_ok=True)
+    with open(STORE.with_suffix(".lock"), "w") as lock:  # runs in parallel write one at a time
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        data = _load()  # re-read: other runs may have written meanwhile
+        data[key] = value
+        STORE.write_text(json.dumps(data, indent=1, sort_keys=True))
+
+
+QUANTITIES = (  # key, label, kind: "rel" % error or "abs" difference
+    ("dent_um", "dent", "rel"), ("dent_radius_mm", "dent radius", "rel"), ("sxx_peak_mpa", "σxx peak", "rel"),
+    ("sxx_peak_depth_mm", "peak depth", "rel"), ("zero_depth_mm", "zero crossing", "rel"),
+    ("crest_radius_mm", "crest radius", "rel"), ("crest_height_um", "crest height", "rel"),
+    ("restitution", "restitution", "abs"),
+)
+
+
+def reference(data: dict, case: str) -> tuple[dict, str]:
+    """Converged reference of a case: the finest physical-element run, Richardson-extrapolated per
+    quantity where h, h/2, h/4 converge monotonically with an order in [1, 3] (else the finest value)."""
+    levels = sorted((float(k.split("/")[2]), v) for k, v in data.items() if k.startswith(f"{case}/physical/"))
+    if not levels:
+        return {}, "none"
+    ref = dict(levels[0][1])
+    note = f"{levels[0][0]:g} um physical"
+    if len(levels) >= 3:
+        f3, f2, f1 = (lv[1] for lv in levels[:3])
+        extr = []
+        for key, _, _ in QUANTITIES:
+            a, b, c = f1[key], f2[key], f3[key]
+            if (a - b) * (b - c) > 0 and abs(b - c) > 0:
+                p = np.log2((a - b) / (b - c))
+                if 1.0 <= p <= 3.0:
+                    ref[key] = c + (c - b) / (2**p - 1)
+                    extr.append(key)
+        if extr:
+            note += "; Richardson on " + ", ".join(extr)
+    return ref, note
+
+
+def table() -> None:
+    data = _load()
+    for case in CASES:
+        ref, note = reference(data, case)
+        if not ref:
+            continue
+        print(f"\n#### {case} (reference: {note})")
+        print("| element | h um | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS | W_hg/W_int peak | CPU s |")
+        print("|---|---|" + "---|" * (len(QUANTITIES) + 3))
+        print("| reference | | " + " | ".join(
+            f"{ref[k]:.4g}" for k, _, _ in QUANTITIES) + f" | | {ref['hg_over_int']:.3f} | |")
+        zr = np.array(ref["profile_z_mm"])
+        pr = np.array(ref["profile_mpa"])
+        sel = zr <= PROFILE_DEPTH * 1e3
+        for element in ELEMENTS:
+            for h in (60, 50, 40, 25, 12.5, 6.25):
+                v = data.get(f"{case}/{element}/{h:g}")
+                if v is None:
+                    continue
+                cells = []
+                for k, _, kind in QUANTITIES:
+                    cells.append(f"{v[k] - ref[k]:+.3f}" if kind == "abs" else f"{100 * (v[k] / ref[k] - 1):+.1f} %")
+                p = np.interp(zr[sel], v["profile_z_mm"], v["profile_mpa"])
+                rms = np.sqrt(np.mean((p - pr[sel]) ** 2)) / np.abs(pr[sel]).max()
+                print(f"| {element} | {h:g} | " + " | ".join(cells) +
+                      f" | {100 * rms:.1f} % | {v['hg_over_int']:.3f} | {v['cpu_s']:.0f} |")
+
+
+def cost(shape=(60, 60, 60), rounds=5, reps=20) -> None:
+    """CPU s per million element updates of one element pass (1 thread), stiffness vs physical form,
+    elastic and plastic (every element yielding), rounds interleaved; the best round of each is kept
+    (CPU time of this process: what other jobs on the machine take is not counted)."""
+    import inspect
+
+    import numba
+
+    from peenflow.fe.element import element_rows
+
+    numba.set_num_threads(1)
+    nx, ny, nz = shape
+    h = 25e-6
+    mesh = BoxMesh(np.arange(nx + 1) * h, np.arange(ny + 1) * h, np.arange(nz + 1) * h)
+    X = mesh.node_coordinates()
+    n, ne = mesh.n_nodes, mesh.n_elements
+    nnx, nny, _ = mesh.shape_nodes
+    mat = Material(**SAE1070)
+    forms = ["stiffness"] + (["physical"] if "hourglass_type" in inspect.signature(mat.to_array).parameters else [])
+    best = {}
+    for _ in range(rounds):
+        for plastic in (False, True):
+            for form in forms:
+                G = np.array([[1.0, 0.2, 0.0], [0.0, -0.5, 0.1], [0.3, 0.0, -0.5]]) * (1e5 if plastic else 1e2)
+                v = X @ G.T + np.random.default_rng(0).normal(0, 1e-2, X.shape)  # with hourglass rates
+                arr = mat.to_array(hourglass_type=form) if form == "physical" else mat.to_array()
+                a = [X, v, np.zeros((n, 3)), np.zeros((ne, 6)), np.zeros(ne) + 0.1,
+                     np.full(ne, 1e3 if plastic else 1e12), np.zeros((ne, 12)), np.full(ne, 293.0),
+                     mesh.element_volumes(), arr, 4e-9, nnx, nny, nx, ny, 0, nx, 0, ny, 0, nz]
+                for _ in range(25):  # compiled, and (plastic) the stress on the yield surface
+                    element_rows(*a)
+                c = time.process_time()
+                for _ in range(reps):
+                    element_rows(*a)
+                per = (time.process_time() - c) / (reps * ne / 1e6)
+                key = (form, plastic)
+                best[key] = min(best.get(key, 1e30), per)
+    print("| form | elastic CPU s / 10^6 updates | plastic CPU s / 10^6 updates |")
+    print("|---|---|---|")
+    for form in forms:
+        print(f"| {form} | {best[(form, False)]:.3f} | {best[(form, True)]:.3f} |")
+
+
+def legacy() -> None:
+    """The setup of BENCHMARKS.md section 4 (box 1.2 x 1.2 x 0.6 mm, fine zone 0.3 x 0.3 x 0.1 mm,
+    window on, rate term on), both forms at 25 / 12.5 / 6.25 um: the physical element against the
+    stiffness form's 6.25 um dent reference there (6.05 / 13.46 um extrapolated)."""
+    from peenflow.fe.mesh import graded_box
+
+    mat = Material(**{**SAE1070, "C": 0.0134})
+    print("| v m/s | form | 25 / 12.5 / 6.25 um dent um | order | extrapolated | restitution 25 / 12.5 / 6.25 |")
+    print("|---|---|---|---|---|---|")
+    for v in (25.0, 55.0):
+        for form, opts in ELEMENTS.items():
+            dents, rest = [], []
+            for h in (25e-6, 12.5e-6, 6.25e-6):
+                mesh = graded_box(0.6e-3, 0.6e-3, h, fine_half_width=0.15e-3, fine_depth=0.1e-3)
+                shots = Shots(centres=[[0, 0, -R - 1e-6]], velocities=[[0, 0, v]], radius=R, density=7800.0)
+                res = run_impacts(Target(mesh), mat, shots, Options(**opts))
+                nnx, nny, _ = mesh.shape_nodes
+                dents.append(res.displacement[: nnx * nny, 2].max() * 1e6)
+                rest.append(res.shots["restitution"][0])
+            f1, f2, f3 = dents
+            ratio = (f1 - f2) / (f2 - f3) if f2 != f3 else float("nan")
+            order, f0 = (np.log2(ratio), f3 + (f3 - f2) / (ratio - 1)) if ratio > 1 else (float("nan"),) * 2
+            print(f"| {v:g} | {form} | {f1:.2f} / {f2:.2f} / {f3:.2f} | {order:.2f} | {f0:.2f} | "
+                  + " / ".join(f"{r:.3f}" for r in rest) + " |", flush=True)
+
+
+def summary() -> None:
+    """Largest |error| over the four cases per element size and form (for README's preset lines)."""
+    data = _load()
+    refs = {case: reference(data, case)[0] for case in CASES}
+    print("\n| form | h um | cases | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS | W_hg/W_int peak |")
+    print("|---|---|---|" + "---|" * (len(QUANTITIES) + 2))
+    for element in ELEMENTS:
+        for h in (60, 50, 40, 25, 12.5):
+            worst = {k: 0.0 for k, _, _ in QUANTITIES}
+            rms_w, hg_w, n = 0.0, 0.0, 0
+            for case, ref in refs.items():
+                v = data.get(f"{case}/{element}/{h:g}")
+                if v is None or not ref:
+                    continue
+                n += 1
+                for k, _, kind in QUANTITIES:
+                    e = v[k] - ref[k] if kind == "abs" else v[k] / ref[k] - 1
+                    worst[k] = max(worst[k], abs(e))
+                zr, pr = np.array(ref["profile_z_mm"]), np.array(ref["profile_mpa"])
+                sel = zr <= PROFILE_DEPTH * 1e3
+                p = np.interp(zr[sel], v["profile_z_mm"], v["profile_mpa"])
+                rms_w = max(rms_w, np.sqrt(np.mean((p - pr[sel]) ** 2)) / np.abs(pr[sel]).max())
+                hg_w = max(hg_w, v["hg_over_int"])
+            if n:
+                cells = [f"{worst[k]:.3f}" if kind == "abs" else f"{100 * worst[k]:.1f} %" for k, _, kind in QUANTITIES]
+                print(f"| {element} | {h:g} | {n} | " + " | ".join(cells) + f" | {100 * rms_w:.1f} % | {hg_w:.3f} |")
+
+
+if __name__ == "__main__":
+    if sys.argv[1] == "legacy":
+        legacy()
+    elif sys.argv[1] == "cost":
+        cost()
+    elif sys.argv[1] == "run":
+        case, element, h = sys.argv[2], sys.argv[3], float(sys.argv[4])
+        out = run(case, element, h)
+        _store(f"{case}/{element}/{h:g}", out)
+        print(json.dumps({k: v for k, v in out.items() if not k.startswith("profile")}, indent=1))
+    else:
+        table()
+        summary()

@@ -1,0 +1,93 @@
+"""Single-impact accuracy of the physical hourglass form against the converged references.
+
+The references (6.25 um physical element, Richardson-extrapolated where the
+25 / 12.5 / 6.25 um sequence converges cleanly) are stored in
+benchmarks/reference/hourglass.json by ``benchmarks/bench_hourglass.py``
+(the command of every run is stored with it; BENCHMARKS.md section 4c).
+Each test reruns one case at a coarse element size with the same setup and
+metrics and asserts its error. Where the issue's goal (13 §1) is met the goal
+is the tolerance; where it is not, the tolerance is the measured error
+rounded up, named ``MISSED`` so the gap stays visible (README, BENCHMARKS.md
+4c).
+"""
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
+sys.path.insert(0, str(BENCH))
+import bench_hourglass as bh  # noqa: E402
+
+DATA = json.loads((BENCH / "reference" / "hourglass.json").read_text())
+
+# relative tolerances (restitution: absolute) at 25 um: the goal of issue 13 §1
+GOAL_25 = dict(dent_um=0.03, dent_radius_mm=0.03, sxx_peak_mpa=0.03, zero_depth_mm=0.03, crest_radius_mm=0.05,
+               crest_height_um=0.15, restitution=0.02)
+# at 50 um the pile-up crest is two elements wide and not resolved (errors of 15-130 %, BENCHMARKS.md 4c):
+# the 50 um tests hold the dent, the stress and the rebound
+GOAL_50 = dict(dent_um=0.08, dent_radius_mm=0.08, sxx_peak_mpa=0.08, zero_depth_mm=0.08, restitution=0.02)
+# where the physical element misses the goal: (case, h um, quantity) -> the measured |error| + 0.5 %
+# rounded up to whole per cent (restitution: absolute; hg_over_int: the ratio itself); BENCHMARKS.md 4c.
+# Crest position and height, the dent's edge on the 25 m/s dent (2.5 elements of 25 um) and the
+# sigma_xx peak under the 45 deg dent converge slowly (order ~1 or less).
+MISSED = {
+    ('al-47-65', 25, 'crest_radius_mm'): 0.17,
+    ('sae-25-90', 25, 'crest_height_um'): 0.6,
+    ('sae-25-90', 25, 'crest_radius_mm'): 0.17,
+    ('sae-25-90', 25, 'dent_radius_mm'): 0.13,
+    ('sae-25-90', 25, 'dent_um'): 0.05,
+    ('sae-25-90', 25, 'hg_over_int'): 0.08,
+    ('sae-25-90', 50, 'dent_radius_mm'): 0.46,
+    ('sae-25-90', 50, 'restitution'): 0.07,
+    ('sae-25-90', 50, 'sxx_peak_mpa'): 0.25,
+    ('sae-25-90', 50, 'zero_depth_mm'): 0.11,
+    ('sae-55-45', 25, 'crest_height_um'): 0.28,
+    ('sae-55-45', 25, 'crest_radius_mm'): 0.15,
+    ('sae-55-45', 25, 'dent_radius_mm'): 0.08,
+    ('sae-55-45', 25, 'dent_um'): 0.05,
+    ('sae-55-45', 25, 'hg_over_int'): 0.07,
+    ('sae-55-45', 25, 'sxx_peak_mpa'): 0.26,
+    ('sae-55-45', 50, 'dent_radius_mm'): 0.23,
+    ('sae-55-45', 50, 'sxx_peak_mpa'): 0.38,
+    ('sae-55-90', 25, 'crest_height_um'): 0.2,
+    ('sae-55-90', 25, 'crest_radius_mm'): 0.15,
+    ('sae-55-90', 25, 'dent_radius_mm'): 0.06,
+    ('sae-55-90', 50, 'sxx_peak_mpa'): 0.1,
+}
+
+
+def _check(case, h_um, goal):
+    ref, _ = bh.reference(DATA, case)
+    assert ref, f"no reference for {case} in {bh.STORE}"
+    got = bh.run(case, "physical", h_um)
+    errors = {}
+    for key, tol in goal.items():
+        tol = MISSED.get((case, h_um, key), tol)
+        err = got[key] - ref[key] if key == "restitution" else got[key] / ref[key] - 1.0
+        errors[key] = err
+        assert abs(err) <= tol, f"{case} at {h_um} um: {key} {got[key]:.4g} vs reference {ref[key]:.4g}"
+    return got, errors
+
+
+@pytest.mark.parametrize("case", ["sae-55-90", "sae-25-90"])
+def test_normal_impacts_at_25um(case):
+    got, _ = _check(case, 25, GOAL_25)
+    assert got["energy_error"] < 0.005
+    assert got["hg_over_int"] <= MISSED.get((case, 25, "hg_over_int"), 0.05)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", ["sae-55-45", "al-47-65"])
+def test_oblique_impacts_at_25um(case):
+    got, _ = _check(case, 25, GOAL_25)
+    assert got["energy_error"] < 0.005
+    assert got["hg_over_int"] <= MISSED.get((case, 25, "hg_over_int"), 0.05)
+
+
+@pytest.mark.parametrize("case", list(bh.CASES))
+def test_impacts_at_50um(case):
+    got, _ = _check(case, 50, GOAL_50)
+    assert got["energy_error"] < 0.01
