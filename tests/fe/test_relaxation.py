@@ -144,8 +144,9 @@ def test_element_matrices_span_every_box_size():
     assert np.array_equal(em2(*h), 0.5 * (element_matrix(*h, mat) + element_matrix(*h, mat).T))
 
 
-def test_element_bound_is_an_upper_bound_of_the_smoother_spectrum():
-    m = Model(box(), Material(**SAE1070))
+@pytest.mark.parametrize("hourglass_type", ["physical", "stiffness"])
+def test_element_bound_is_an_upper_bound_of_the_smoother_spectrum(hourglass_type):
+    m = Model(box(), Material(**SAE1070), hourglass_type=hourglass_type)
     lev = Multigrid(m.mesh, m.bc, m.mat_static).levels[0]
     bound = element_bound(lev.ke)
     rng = np.random.default_rng(5)
@@ -159,4 +160,9 @@ def test_element_bound_is_an_upper_bound_of_the_smoother_spectrum():
         lam = np.sqrt(dot(z, z))
         u = z
     assert lam <= bound * (1 + 1e-12)
-    assert bound < 1.2 * lam  # and a tight one on the fine level
+    if hourglass_type == "stiffness":
+        assert bound < 1.2 * lam  # and a tight one on the fine level
+    # The physical form's bending modes make the element-wise bound looser
+    # (measured 1.32 x the power-iteration value); it stays an upper bound,
+    # and what it costs is held by the V-cycle budget that
+    # test_static_matches_strict_relaxation asserts (<= 10), not claimed here.
