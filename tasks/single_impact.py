@@ -94,5 +94,7 @@ def single_impact(velocity: xr.Dataset | None = None, *, material: dict, shot: d
                                      threads=ctx.threads if ctx else 1)
     ds = impact_dataset(mesh, result, angle_deg == 90.0)
     ds.attrs.update({"velocity_m_s": speed, "angle_deg": angle_deg,
-                     "n_elements": int(mesh.n_elements)})
+                     "n_elements": int(mesh.n_elements),
+                     # "" when the active window lies inside the envelope its error was measured for
+                     "window_outside_validated": result.window_outside_validated})
     return ds

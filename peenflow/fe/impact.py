@@ -134,6 +134,10 @@ class Options:
       dilatational wave travels during the estimated contact (``c_p t_c``):
       the held faces must not sit much closer, in wave transit, than in the
       cases the window was measured for (:data:`WINDOW_VALIDATED`).
+    window_warning : warn (:class:`WindowValidityWarning`, once per call)
+      when a window is smaller than that. Callers whose window sizes are
+      chosen and measured at a higher level (a study's fidelity preset) turn
+      it off; the result's ``window_outside_validated`` says it all the same.
     window_sponge : absorbing layer along the held window faces, as a fraction
       of the window's smaller extent (half width or depth); 0 = none.
     sponge_damping : its peak damping rate, x c_dilatational / layer thickness.
@@ -195,6 +199,7 @@ class Options:
     window_depth: float = 4.0
     window_min_elements: float = 3.0
     window_min_wave: float = 0.05
+    window_warning: bool = True
     window_sponge: float = 0.0
     window_boundary: str = "held"
     boundary_spring: float = 1.0
@@ -303,6 +308,9 @@ class ImpactRunResult:
     energy_error : largest per-shot energy balance error / impact energy.
     final_state : KernelState (unrelaxed; resume from it).
     wall_time : s.
+    window_outside_validated : "" or why the first shot whose active window was
+      smaller than any the window error was measured for is outside
+      (:data:`WINDOW_VALIDATED`).
     """
 
     stress: np.ndarray
@@ -318,6 +326,7 @@ class ImpactRunResult:
     energy_error: float
     final_state: KernelState
     wall_time: float
+    window_outside_validated: str = ""
 
 
 def _shot_vector(shots: Shots, i: int, model: Model, friction: float) -> tuple[np.ndarray, float]:
@@ -510,6 +519,7 @@ def run_impacts(
 
     start = int(st.shot_index[0])
     warned = False
+    window_note = ""
     for i in range(start, len(shots)):
         shot, frac = _shot_vector(shots, i, model, options.friction)
         vel = shot[3:6].copy()
@@ -556,6 +566,8 @@ def run_impacts(
                 why = None if warned else _window_validity(model, material, win, hit_xy[0], hit_xy[1], t_est)
                 if why is not None:
                     warned = True
+                    window_note = f"shot {i}: {why}"
+                if why is not None and options.window_warning:
                     warnings.warn(f"shot {i}: the active window {tuple(int(w) for w in win)} (element box) is "
                                   f"outside what it was validated for: {why}", WindowValidityWarning, stacklevel=2)
             else:
@@ -664,4 +676,5 @@ def run_impacts(
         energy_error=float(np.max(rec[hit, 17])) if np.any(hit) else 0.0,
         final_state=final,
         wall_time=_time.perf_counter() - t_wall,
+        window_outside_validated=window_note,
     )

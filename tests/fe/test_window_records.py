@@ -150,3 +150,20 @@ def test_a_box_one_element_thick_is_refused_by_name():
         with pytest.raises(ValueError, match="at least 2"):
             m.phase(st, S.MODE_RELAX, np.array(win), _no_shot(), safety=0.9, alpha=0.0, rest_ke=1.0, rest_v=1.0,
                     e_ref=0.0)
+
+
+def test_window_validity_is_recorded_and_the_warning_can_be_left_to_the_caller():
+    """Options.window_warning = False (a study's preset chose the window) gives no
+    WindowValidityWarning, and the result still says why the window is outside
+    the validated envelope; the default warns."""
+    t = Target(graded_box(0.6e-3, 0.6e-3, 60e-6, fine_half_width=0.3e-3, fine_depth=0.2e-3))
+    mat = Material(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234)
+    shots = Shots(centres=[[0.0, 0.0, -0.29e-3 - 1e-6]], velocities=[[0.0, 0.0, 55.0]], radius=0.29e-3, density=7800.0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        quiet = run_impacts(t, mat, shots, Options(window_warning=False))
+        loud = run_impacts(t, mat, shots, Options())
+    assert quiet.window_outside_validated.startswith("shot 0:") and "elements" in quiet.window_outside_validated
+    assert quiet.window_outside_validated == loud.window_outside_validated
+    assert sum(issubclass(w.category, WindowValidityWarning) for w in caught) == 1  # the default run's only
+    assert np.array_equal(quiet.stress, loud.stress)
