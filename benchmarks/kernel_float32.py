@@ -57,6 +57,6 @@ def build(block: int = element.BLOCK):
     exec(_f32_source(element._row), ns)
     ns["_row"] = numba.njit(error_model="numpy", nogil=True)(ns["_row"])
     exec(textwrap.dedent(inspect.getsource(element._rows_pass)), ns)
-    exec(textwrap.dedent(inspect.getsource(element._rows_pass_parallel)), ns)
+    # one source for both, as in the kernel (peenflow._jit.jit_twins); not cached, so no rename needed
     return (numba.njit(error_model="numpy", nogil=True)(ns["_rows_pass"]),
-            numba.njit(error_model="numpy", nogil=True, parallel=True)(ns["_rows_pass_parallel"]))
+            numba.njit(error_model="numpy", nogil=True, parallel=True)(ns["_rows_pass"]))

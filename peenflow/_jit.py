@@ -82,3 +82,23 @@ def jit(fn=None, *, fastmath: bool = False, parallel: bool = False, inline: str 
     if fn is not None:
         return wrap(fn)
     return wrap
+
+
+def jit_twins(fn, **options):
+    """``(serial, parallel)``: ``fn`` compiled by :func:`jit`, and with ``parallel=True``.
+
+    One source for both (its ``prange`` loops run as plain ranges in the
+    serial one). Numba's disk cache names a function's entries by its
+    qualified name and first line, not by its compile flags, so the same
+    function jitted twice would let one variant load the other's cached
+    code: the parallel one is compiled from a copy of ``fn`` named
+    ``<name>_parallel`` (same code object, so the same source and line).
+    """
+    import types
+
+    twin = types.FunctionType(fn.__code__, fn.__globals__, f"{fn.__name__}_parallel", fn.__defaults__,
+                              fn.__closure__)
+    twin.__qualname__ = f"{fn.__qualname__}_parallel"
+    twin.__module__ = fn.__module__
+    twin.__doc__ = f"{fn.__qualname__} compiled with parallel=True (:func:`peenflow._jit.jit_twins`)."
+    return jit(fn, **options), jit(twin, parallel=True, **options)

@@ -92,6 +92,9 @@ tests/fe/test_element.py):
   one thread when elastic (BENCHMARKS.md section 1).
 * :func:`element_pass`: one element at a time in 8 colours (parity of
   ``i, j, k``); the reference implementation.
+
+Each pass is compiled twice from one source, serial and ``parallel=True``
+(``element_rows_parallel``, ``element_pass_parallel``; :func:`peenflow._jit.jit_twins`).
 """
 
 from __future__ import annotations
@@ -100,7 +103,7 @@ import math
 
 from numba import prange
 
-from peenflow._jit import jit
+from peenflow._jit import jit, jit_twins
 import numpy as np
 
 from peenflow.fe.johnson_cook import (HG_PHYSICAL, M_ADIABATIC, M_BULK_LIN, M_BULK_QUAD, M_HEAT, M_HG, M_HG_FLOOR,
@@ -625,51 +628,7 @@ def _element_pass(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nn
     return dtmin, status, wi, wp, wh, wv
 
 
-element_pass = jit(_element_pass)
-
-
-def _element_pass_parallel(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1):
-    """Same as :func:`element_pass`, compiled with ``parallel=True``.
-
-    (A separate function, not a second ``jit`` of the same one, because
-    numba's disk cache keys entries by function and signature only.)
-    """
-    nnxy = nnx * nny
-    dtmin = 1e30
-    status = 0
-    wi = 0.0
-    wp = 0.0
-    wh = 0.0
-    wv = 0.0
-    for colour in range(8):
-        ci = colour & 1
-        cj = (colour >> 1) & 1
-        ck = (colour >> 2) & 1
-        ni = (i1 - i0 - ci + 1) // 2
-        nj = (j1 - j0 - cj + 1) // 2
-        nk = (k1 - k0 - ck + 1) // 2
-        if ni <= 0 or nj <= 0 or nk <= 0:
-            continue
-        for jk in prange(nj * nk):
-            kk = jk // nj
-            jj = jk - kk * nj
-            k = k0 + ck + 2 * kk
-            j = j0 + cj + 2 * jj
-            for ii in range(ni):
-                i = i0 + ci + 2 * ii
-                e = i + nx * (j + ny * k)
-                n0 = i + nnx * (j + nny * k)
-                dte, st, a1, a2, a3, a4 = element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt)
-                dtmin = min(dtmin, dte)
-                status = max(status, st)
-                wi += a1
-                wp += a2
-                wh += a3
-                wv += a4
-    return dtmin, status, wi, wp, wh, wv
-
-
-element_pass_parallel = jit(_element_pass_parallel, parallel=True)
+element_pass, element_pass_parallel = jit_twins(_element_pass)
 
 
 # ---------------------------------------------------------------------------
@@ -1245,6 +1204,7 @@ def _rows_pass(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, 
     nj = j1 - j0
     nk = k1 - k0
     res = np.zeros((4, 6))
+    res[:, 0] = 1e30  # a colour with no rows (a box one element thick) limits no step
     for colour in range(4):
         cj = colour & 1
         ck = (colour >> 1) & 1
@@ -1286,53 +1246,4 @@ def _rows_pass(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, 
     return dtmin, status, wi, wp, wh, wv
 
 
-element_rows = jit(_rows_pass)
-
-
-def _rows_pass_parallel(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1):
-    """:func:`element_rows` compiled with ``parallel=True`` (separate source for numba's cache)."""
-    nj = j1 - j0
-    nk = k1 - k0
-    res = np.zeros((4, 6))
-    for colour in range(4):
-        cj = colour & 1
-        ck = (colour >> 1) & 1
-        mj = (nj - cj + 1) // 2
-        mk = (nk - ck + 1) // 2
-        if mj <= 0 or mk <= 0:
-            continue
-        nrows = mj * mk
-        outs = np.zeros((nrows, 6))
-        for r in prange(nrows):
-            kk = r // mj
-            jj = r - kk * mj
-            outs[r, 0] = 1e30
-            _row(j0 + cj + 2 * jj, k0 + ck + 2 * kk, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static,
-                 hg, temp, vol0, mat, dt, outs[r])
-        res[colour, 0] = 1e30
-        for r in range(nrows):
-            res[colour, 0] = min(res[colour, 0], outs[r, 0])
-            res[colour, 1] = max(res[colour, 1], outs[r, 1])
-            for c in range(2, 6):
-                res[colour, c] += outs[r, c]
-    dtmin = 1e30
-    status = 0
-    wi = 0.0
-    wp = 0.0
-    wh = 0.0
-    wv = 0.0
-    for colour in range(4):
-        if res[colour, 0] < dtmin:
-            dtmin = res[colour, 0]
-        if res[colour, 1] > status:
-            status = int(res[colour, 1])
-        wi += res[colour, 2]
-        wp += res[colour, 3]
-        wh += res[colour, 4]
-        wv += res[colour, 5]
-    if status != 0:
-        dtmin = 0.0
-    return dtmin, status, wi, wp, wh, wv
-
-
-element_rows_parallel = jit(_rows_pass_parallel, parallel=True)
+element_rows, element_rows_parallel = jit_twins(_rows_pass)
