@@ -38,7 +38,7 @@ def doubling_ladder(first: int, cap: int) -> tuple[int, ...]:
         rungs.append(cap)
     if len(rungs) < 3:
         raise ValueError(f"a ladder from {first} to {cap} shots has {len(rungs)} rungs; eq. (10) needs >= 3 "
-                         f"(cap >= 4 x first)")
+                         f"(cap > 2 x first)")
     return tuple(rungs)
 
 

@@ -151,10 +151,10 @@ class Almen(ShotScaled):
                     raise ValueError(f'almen.{key} = {getattr(self, key)!r} needs almen.shot_counts = "auto" '
                                      f"(a given ladder has its own rungs)")
             return self
-        first, cap = self.first_shots or FIRST_SHOTS, self.max_shots or MAX_SHOTS
-        if cap < 4 * first:
+        first, cap = self.ladder_first_shots, self.ladder_max_shots
+        if cap <= 2 * first:
             raise ValueError(f"almen.first_shots = {first}: the ladder to almen.max_shots = {cap} has fewer "
-                             f"than the 3 rungs eq. (10) needs (max_shots >= 4 x first_shots = {4 * first})")
+                             f"than the 3 rungs eq. (10) needs (max_shots > 2 x first_shots = {2 * first})")
         return self
 
     @property
