@@ -87,3 +87,31 @@ def test_a_stopped_extending_run_resumes_bit_identically(strip, extended, tmp_pa
     _same(again, extended)
     assert again.shots.values.tolist() == extended.shots.values.tolist()
     assert float(again.ladder_saturation_shots) == float(extended.ladder_saturation_shots)
+
+
+def test_a_micro_study_with_an_auto_ladder_saturates_every_point_inside_its_data(tmp_path):
+    """Through the real command: every sequence stops saturated in its own data, the sequences of a
+    point may stop at different rungs (NaN-padded arc heights), and no point's intensity is
+    extrapolated, so the control curve needs no guessed ladder."""
+    import subprocess
+    import sys
+
+    import peenflow
+
+    study = tmp_path / "auto.toml"
+    study.write_text((HERE / "micro.toml").read_text().replace(
+        "shot_counts = [3, 6, 12, 24]", 'shot_counts = "auto"\nfirst_shots = 3\nmax_shots = 384').replace(
+        "sequences = 1\nrev_rule", "sequences = 2\nrev_rule"))
+    proc = subprocess.run([sys.executable, "-m", "peenflow.cli", "run", str(study), "--until", "control_curve",
+                           "--workers", "2"], capture_output=True, text=True, timeout=900)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    runs = peenflow.open_result(study, "strip_runs")
+    assert (runs.ladder_saturated.values == 1).all()
+    T = runs.ladder_saturation_shots.values
+    arc = peenflow.open_result(study, "arc_height").arc_height_mm
+    reached = np.isfinite(arc.values)
+    # each sequence's last rung is at >= 2T of its own fit, T not below its first rung
+    last = (arc.shots.values * reached).max(axis=-1)
+    assert np.all(2 * T <= last) and np.all(T >= 3)
+    sat = peenflow.open_result(study, "saturation")
+    assert (sat.intensity_extrapolated.values == 0).all()
