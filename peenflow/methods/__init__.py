@@ -11,6 +11,7 @@ name says otherwise (``angle_deg``, ``*_percent``). One concept per module:
 * :mod:`.arc_height`       -- Almen strips, clamping force/moment and arc height (eqs. 6-9)
 * :mod:`.saturation`       -- saturation fits (eq. 10, SAE J2597 style), eq. (11), intensity
 * :mod:`.ladder`           -- a doubling shot ladder and when it may stop (eq. (11) inside its data)
+* :mod:`.sequences`        -- adaptive sequences: enough when the intensity's standard error meets a tolerance
 * :mod:`.control_curve`    -- intensity vs velocity per angle, inverse, angle interpolation
 """
 
@@ -43,6 +44,7 @@ from .indentation import DentEllipse, dent_ellipse
 from .ladder import LadderVerdict, doubling_ladder, ladder_verdict
 from .residual_profile import VOIGT, DepthProfile, EquilibriumResidual, LayerAverage, average_over_region, equilibrium_residual
 from .saturation import GROWTH_RATIO, SaturationFit, SequenceSaturation, fit_saturation, fit_sequences
+from .sequences import SequencesVerdict, sequences_verdict
 from .shot_stream import ShotStream, generate_centres, impingement_direction, landing_points, shot_stream
 
 __all__ = [
@@ -56,5 +58,6 @@ __all__ = [
     "LadderVerdict", "doubling_ladder", "ladder_verdict",
     "VOIGT", "DepthProfile", "EquilibriumResidual", "LayerAverage", "average_over_region", "equilibrium_residual",
     "GROWTH_RATIO", "SaturationFit", "SequenceSaturation", "fit_saturation", "fit_sequences",
+    "SequencesVerdict", "sequences_verdict",
     "ShotStream", "generate_centres", "impingement_direction", "landing_points", "shot_stream",
 ]
