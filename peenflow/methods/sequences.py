@@ -18,6 +18,19 @@ at n = 2, 4.4 s at 3, 1.6 s at 10).  Measured on 400 random points (the test):
 1.6 x (sigma / tol)^2 sequences.  A pure function of
 the intensities so far, so a study that adds sequences one at a time and one
 that is resumed take the same decisions.
+
+Wiring into a study (not done yet; issue 10 §3).  The chosen design is a
+generic engine feature, a sweep dimension that grows: ``Graph.sweep(...,
+grow=(dim, start, cap, until))`` runs ``start`` points of ``dim`` per group of
+the other dims, and after each point of a group finishes asks ``until`` (a
+callable the tasks supply: here, this verdict on the group's intensities)
+whether to add the next index.  The engine knows nothing of peening; every
+sequence stays its own cached, checkpointed point whose key does not depend
+on how many there are (its seed is per index), so growing reuses all work,
+a resumed run re-asks the same questions on the same results, and sequences
+of different points still run in parallel.  The alternative, a task-level
+loop over sequences inside one strip point, would lose that parallelism,
+nest checkpoints and change the strip runs' dims for every consumer.
 """
 
 from __future__ import annotations
