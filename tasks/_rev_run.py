@@ -23,17 +23,31 @@ import time
 import numpy as np
 import xarray as xr
 
-from peenflow.methods import average_over_region, shot_stream
+from peenflow.methods import average_over_region, doubling_ladder, ladder_verdict, shot_stream
 
 from . import _kernel as K
 from ._common import COMPONENT_LONG_NAME, depth, labels, var
+from .arc_height import release
+from .saturation import MODELS
 
 CHECKPOINT_EVERY_S = float(os.environ.get("PEENFLOW_CHECKPOINT_EVERY_S", "30"))
 
 
 def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, measure_side_m: float,
-            thickness_m: float, angle_deg: float, velocity_m_s: float, seed: int, ladder: list) -> xr.Dataset:
-    ladder = sorted(int(n) for n in ladder)
+            thickness_m: float, angle_deg: float, velocity_m_s: float, seed: int, ladder: list,
+            extend: dict | None = None) -> xr.Dataset:
+    """The run (module docstring); ``ladder``: the rungs, or with ``extend`` ignored.
+
+    ``extend`` (a strip ladder that extends itself, ``almen.shot_counts = "auto"``):
+    {"first_shots", "max_shots", "fit" (``almen.saturation_fit``), "strip" (the
+    ``arc_height`` stage's strip parameters)}.  The rungs are then the doubling
+    ladder first ... max_shots (the shot stream drawn for max_shots), and the
+    run stops after the first rung at which :func:`ladder_verdict` on its own
+    arc heights says stop.  The result then holds only the rungs run, and
+    ``ladder_saturated`` / ``ladder_saturation_shots`` say how it ended.
+    """
+    ladder = list(doubling_ladder(extend["first_shots"], extend["max_shots"])) if extend else \
+        sorted(int(n) for n in ladder)
     mesh = K.rev_mesh(fidelity, side_m, thickness_m)
     centroids = mesh.element_centroids()
     z_edges = mesh.z
@@ -83,8 +97,13 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
             last_save[0] = time.time()
 
     records = None
+    verdict = None
+    run = []  # the rungs of the result: the whole ladder, or up to the rung that stopped it
     for n in ladder:
+        run.append(n)
         if n in means:
+            if extend and (verdict := _verdict(means, run, z_edges, extend)).stop:
+                break
             continue
         shots = K.make_shots(shot, stream.centres[:n], stream.velocities[:n])
         res = K.run_impacts(target, material_k, shots, options, state=state, on_shot_done=on_shot_done)
@@ -96,14 +115,30 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
         if ctx is not None:
             checkpoint(state)
             last_save[0] = time.time()
+        if extend and (verdict := _verdict(means, run, z_edges, extend)).stop:
+            break
     if records is None:  # every rung came from the checkpoint
         from peenflow.fe.state import SHOT_RECORD_FIELDS
 
         rec = np.asarray(state["shot_records"]).reshape(-1, len(SHOT_RECORD_FIELDS))
         records = {name: rec[:, k] for k, name in enumerate(SHOT_RECORD_FIELDS)}
 
-    mean = np.array([means[n] for n in ladder])
-    spread = np.array([spreads[n] for n in ladder])
+    ladder_vars = {}
+    if extend:
+        ladder_vars = {
+            "ladder_saturated": var(int(verdict.saturated), (), "1",
+                                    "1 if the ladder stopped with eq. (11)'s point T inside its data (a rung at "
+                                    ">= 2 T), 0 if it stopped at almen.max_shots or T fell below the first rung",
+                                    flag_values=np.array([0, 1]), flag_meanings="not_saturated saturated"),
+            "ladder_saturation_shots": var(verdict.saturation_shots, (), "1",
+                                           "saturation point T of this sequence's own rungs, the stop rule's"),
+        }
+        stop_reason = {"ladder_stop_reason": verdict.reason if verdict.stop else
+                       f"stopped at the cap almen.max_shots = {run[-1]}: {verdict.reason}"}
+    else:
+        stop_reason = {}
+    mean = np.array([means[n] for n in run])
+    spread = np.array([spreads[n] for n in run])
     hit = records["hit"] > 0
     return xr.Dataset(
         {
@@ -112,7 +147,7 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
             "stress_spread_Pa": var(spread, ("shots", "layer", "component"), "Pa", "lateral std over the region"),
             "stress_xx_Pa": var(mean[:, :, 0], ("shots", "layer"), "Pa", "sigma_xx profile"),
             "stress_yy_Pa": var(mean[:, :, 1], ("shots", "layer"), "Pa", "sigma_yy profile"),
-            "plastic_strain_mean": var(np.array([plastic[n] for n in ladder]), ("shots", "layer"), "1",
+            "plastic_strain_mean": var(np.array([plastic[n] for n in run]), ("shots", "layer"), "1",
                                        "equivalent plastic strain averaged over the measuring region"),
             "restitution": var(records["restitution"], ("impact",), "1",
                                "coefficient of restitution per impact, in arrival order"),
@@ -121,15 +156,16 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
             "hourglass_peak": var(records["hourglass_peak"], ("impact",), "1",
                                   "peak hourglass energy of the impact / impact energy (large on a mesh too "
                                   "coarse for the dent: BENCHMARKS.md 4b)"),
+            **ladder_vars,
             "hit_fraction": var(float(hit.mean()) if hit.size else 0.0, (), "1", "fraction of shots that touched the REV"),
         },
-        coords={"shots": var(np.array(ladder), ("shots",), "1", "number of shots N (rung of the ladder)"),
+        coords={"shots": var(np.array(run), ("shots",), "1", "number of shots N (rung of the ladder)"),
                 "component": labels(K.VOIGT, "component", COMPONENT_LONG_NAME),
                 "z_edge_m": depth(z_edges, "z_edge", "layer boundary depth below the peened surface"),
                 "depth_m": depth(0.5 * (z_edges[1:] + z_edges[:-1]), "layer", "layer mid-depth below the peened surface"),
                 "impact": var(np.arange(records["restitution"].size), ("impact",), "1", "impact number in arrival order")},
         attrs={"rev_side_m": side_m, "measure_side_m": measure_side_m, "thickness_m": thickness_m,
-               "n_elements": int(mesh.n_elements), "seed": int(seed)},
+               "n_elements": int(mesh.n_elements), "seed": int(seed), **stop_reason},
     )
 
 
@@ -150,3 +186,10 @@ def _unusable(ck: xr.Dataset, mesh, nz: int, last: int) -> str:
     if not 0 <= done <= last:
         return f"it is at shot {done}, beyond this run's {last}"
     return ""
+
+
+def _verdict(means: dict, rungs: list, z_edges, extend: dict):
+    """The stop rule on the rungs run so far: their arc heights (eqs. 6-9, as the
+    ``arc_height`` stage computes them) and a saturation fit (``almen.saturation_fit``)."""
+    ah = [release(z_edges, means[n][:, 0], extend["strip"])[0] for n in rungs]
+    return ladder_verdict(rungs, ah, MODELS[extend["fit"]])

@@ -23,6 +23,10 @@ def arc_height(runs: xr.Dataset, *, strip_width_m: float, strip_thickness_m: flo
                velocity_m_s: float | None = None) -> xr.Dataset:
     """``runs``: strip REV profiles, dims (sequence, shots, layer), ``stress_xx_Pa`` and ``z_edge_m``.
 
+    Sequences may have different ladders (``almen.shot_counts = "auto"``): the
+    combined runs are NaN where a sequence stopped before a rung, and so are
+    its arc heights there.
+
     Returns arc_height_mm, clamp_force_N, clamp_moment_Nm with dims (sequence, shots).
     """
     z_edges = np.asarray(runs.z_edge_m.values)
@@ -33,11 +37,13 @@ def arc_height(runs: xr.Dataset, *, strip_width_m: float, strip_thickness_m: flo
     ah = np.full((n_seq, n_shots), np.nan)
     force = np.full_like(ah, np.nan)
     moment = np.full_like(ah, np.nan)
+    strip = {"strip_width_m": strip_width_m, "strip_thickness_m": strip_thickness_m,
+             "youngs_modulus_Pa": youngs_modulus_Pa, "gauge_span_m": gauge_span_m}
     for s in range(n_seq):
         for k in range(n_shots):
-            profile = DepthProfile(z_edges, sxx[s, k], "layers")
-            rel = release_strip(profile, strip_width_m, strip_thickness_m, youngs_modulus_Pa, gauge_span_m)
-            ah[s, k], force[s, k], moment[s, k] = rel.arc_height, rel.force, rel.moment
+            if not np.all(np.isfinite(sxx[s, k])):  # a rung this sequence's ladder did not reach
+                continue
+            ah[s, k], force[s, k], moment[s, k] = release(z_edges, sxx[s, k], strip)
     dims = ("sequence", "shots")
     return xr.Dataset(
         {
@@ -49,3 +55,16 @@ def arc_height(runs: xr.Dataset, *, strip_width_m: float, strip_thickness_m: flo
                 "shots": var(runs.shots.values, ("shots",), "1", "number of shots N")},
         attrs={"strip_thickness_m": strip_thickness_m, "gauge_span_m": gauge_span_m},
     )
+
+
+def release(z_edges, sxx, strip: dict) -> tuple[float, float, float]:
+    """(arc height m, clamp force N, clamp moment N m) of one σx profile (Pa on layers ``z_edges``, m).
+
+    ``strip``: this stage's parameters ``strip_width_m``, ``strip_thickness_m``,
+    ``youngs_modulus_Pa``, ``gauge_span_m``.  Shared with the strip runs that
+    extend their own ladder, so both compute the same arc height.
+    """
+    profile = DepthProfile(np.asarray(z_edges), np.asarray(sxx), "layers")
+    rel = release_strip(profile, strip["strip_width_m"], strip["strip_thickness_m"], strip["youngs_modulus_Pa"],
+                        strip["gauge_span_m"])
+    return rel.arc_height, rel.force, rel.moment

@@ -135,12 +135,17 @@ def build_graph(path) -> Graph:
                 "side_m": None if almen.rev_size_mm is None else almen.rev_size_mm * 1e-3,
                 "measure_side_m": None if almen.measure_size_mm is None else almen.measure_size_mm * 1e-3})
         sweep = {"angle_deg": list(almen.angles_deg), "velocity_m_s": list(almen.velocities_m_s)}
+        strip_p = {"strip_width_m": strip.width_m, "strip_thickness_m": h,
+                   "youngs_modulus_Pa": strip.material.youngs_modulus_Pa, "gauge_span_m": strip.gauge_span_m}
+        if almen.ladder_auto:  # the ladder extends itself (tasks/strip_runs.py); a given one keeps its keys
+            ladder = {"extend": {"first_shots": almen.ladder_first_shots, "max_shots": almen.ladder_max_shots,
+                                 "fit": almen.saturation_fit, "strip": strip_p}}
+        else:
+            ladder = {"shot_counts": list(almen.shot_counts)}
         runs = g.sweep(strip_runs, dims={**sweep, "sequence": list(range(almen.sequences))}, upstream={"rev": rev},
-                       params={"material": smat, "shot": shot, "fidelity": fid, "shot_counts": list(almen.shot_counts)},
+                       params={"material": smat, "shot": shot, "fidelity": fid, **ladder},
                        point_params=lambda c: {"seed": study.seeds.seed("almen", c["sequence"])})
-        arc = g.sweep(arc_height, dims=sweep, upstream={"runs": runs}, params={
-            "strip_width_m": strip.width_m, "strip_thickness_m": h,
-            "youngs_modulus_Pa": strip.material.youngs_modulus_Pa, "gauge_span_m": strip.gauge_span_m})
+        arc = g.sweep(arc_height, dims=sweep, upstream={"runs": runs}, params=strip_p)
         sat = g.sweep(saturation, dims=sweep, upstream={"arc": arc}, params={"fit": almen.saturation_fit})
         control = g.add(control_curve, upstream={"sat": sat}, params={"interpolation": almen.interpolation})
 

@@ -4,6 +4,11 @@ The strip REV (side from ``strip_rev``, the strip's thickness, SAE 1070) is
 peened by one sequence of shots up to the largest N of the saturation
 ladder; a relaxed snapshot at every rung gives σ(z) for every N from one
 run (the paper runs each N separately: 7 x the work).
+
+With ``almen.shot_counts = "auto"`` the graph passes ``extend`` instead of a
+ladder the user guessed: the run doubles its ladder from ``almen.first_shots``
+and stops at the first rung where eq. (11) holds inside its own data
+(:func:`peenflow.methods.ladder_verdict`), or at ``almen.max_shots``.
 """
 
 from __future__ import annotations
@@ -16,7 +21,8 @@ from ._rev_run import run_rev
 
 @peening_task(version="1")
 def strip_runs(rev: xr.Dataset, *, material: dict, shot: dict, fidelity: dict, angle_deg: float,
-               velocity_m_s: float, sequence: int, seed: int, shot_counts: list, ctx=None) -> xr.Dataset:
+               velocity_m_s: float, sequence: int, seed: int, shot_counts: list | None = None,
+               extend: dict | None = None, ctx=None) -> xr.Dataset:
     return run_rev(ctx, material=material, shot=shot, fidelity=fidelity, side_m=scalar(rev, "rev_side_m"),
                    measure_side_m=scalar(rev, "measure_side_m"), thickness_m=scalar(rev, "thickness_m"),
-                   angle_deg=angle_deg, velocity_m_s=velocity_m_s, seed=seed, ladder=shot_counts)
+                   angle_deg=angle_deg, velocity_m_s=velocity_m_s, seed=seed, ladder=shot_counts, extend=extend)

@@ -51,7 +51,8 @@ def _check_saturated(control: xr.Dataset, angles, velocities, context: str = "")
             f"{context}the control curve is not saturated where the target intensity is read: {'; '.join(bad)} "
             f"(largest shot count {n_max:.0f}). An intensity extrapolated beyond the ladder is not an Almen "
             f"intensity (SAE J2597 needs a point at 2 T). Extend almen.shot_counts to about {suggest} shots "
-            "(the strip runs then restart from scratch for the new ladder), or set "
+            "(the strip runs then restart from scratch for the new ladder; with shot_counts = \"auto\" raise "
+            "almen.max_shots), or set "
             "almen.allow_extrapolated_intensity = true to accept it."
         )
 

@@ -10,6 +10,8 @@ name says otherwise (``angle_deg``, ``*_percent``). One concept per module:
 * :mod:`.residual_profile` -- depth profiles, region averaging per layer, self-equilibrium check
 * :mod:`.arc_height`       -- Almen strips, clamping force/moment and arc height (eqs. 6-9)
 * :mod:`.saturation`       -- saturation fits (eq. 10, SAE J2597 style), eq. (11), intensity
+* :mod:`.ladder`           -- a doubling shot ladder and when it may stop (eq. (11) inside its data)
+* :mod:`.sequences`        -- adaptive sequences: enough when the intensity's standard error meets a tolerance
 * :mod:`.control_curve`    -- intensity vs velocity per angle, inverse, angle interpolation
 """
 
@@ -39,8 +41,10 @@ from .dmin import (
     stress_region,
 )
 from .indentation import DentEllipse, dent_ellipse
+from .ladder import LadderVerdict, doubling_ladder, ladder_verdict
 from .residual_profile import VOIGT, DepthProfile, EquilibriumResidual, LayerAverage, average_over_region, equilibrium_residual
 from .saturation import GROWTH_RATIO, SaturationFit, SequenceSaturation, fit_saturation, fit_sequences
+from .sequences import SequencesVerdict, sequences_verdict
 from .shot_stream import ShotStream, generate_centres, impingement_direction, landing_points, shot_stream
 
 __all__ = [
@@ -51,7 +55,9 @@ __all__ = [
     "REGION_FRACTION", "DminSearch", "RevGeometry", "bracket_from_radius", "find_dmin", "scan_dmin", "impact_region",
     "regions_overlap", "single_impact_region_radius", "stress_region",
     "DentEllipse", "dent_ellipse",
+    "LadderVerdict", "doubling_ladder", "ladder_verdict",
     "VOIGT", "DepthProfile", "EquilibriumResidual", "LayerAverage", "average_over_region", "equilibrium_residual",
     "GROWTH_RATIO", "SaturationFit", "SequenceSaturation", "fit_saturation", "fit_sequences",
+    "SequencesVerdict", "sequences_verdict",
     "ShotStream", "generate_centres", "impingement_direction", "landing_points", "shot_stream",
 ]

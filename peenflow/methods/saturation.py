@@ -265,7 +265,8 @@ class SequenceSaturation:
 
     fits : per-sequence SaturationFit, or None where that sequence failed.
     errors : per-sequence error message, or None where it succeeded.
-    mean_fit : fit of the sequence-mean arc-height curve (NaN-aware mean per N).
+    mean_fit : fit of the sequence-mean arc-height curve, or of the pooled points
+        where the sequences' ladders differ (see fit_sequences).
     intensity_mean, intensity_std (ddof=1; NaN if < 2 fits), intensity_min,
     intensity_max : statistics of the per-sequence intensities, m.
     """
@@ -283,7 +284,9 @@ def fit_sequences(counts, arc_heights, model: str = "eq10") -> SequenceSaturatio
     """Fit each sequence and the mean curve.
 
     counts : (m,) shot numbers. arc_heights : (n_seq, m) arc heights, m; NaN marks
-    a missing point. A sequence whose data cannot define saturation is recorded in
+    a missing point.  ``mean_fit`` fits the sequence-mean curve where every
+    sequence has data at the same counts, else (ladders of different lengths)
+    the pooled points of all sequences. A sequence whose data cannot define saturation is recorded in
     ``errors``; the mean-curve fit must succeed or ValueError is raised.
     """
     y = np.atleast_2d(np.asarray(arc_heights, dtype=float))
@@ -299,9 +302,18 @@ def fit_sequences(counts, arc_heights, model: str = "eq10") -> SequenceSaturatio
             fits.append(None)
             errors.append(str(exc))
     finite = np.isfinite(y)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        mean = np.where(finite, y, 0.0).sum(axis=0) / finite.sum(axis=0)
-    mean_fit = fit_saturation(n, mean, model)
+    rows = finite[finite.any(axis=1)]
+    if rows.size and not np.all(rows == rows[0]):
+        # Ladders of different lengths (almen.shot_counts = "auto" stops each
+        # sequence at its own rung): a mean per N would, at the large N only the
+        # long ladders reach, be the mean of those alone.  Least squares on the
+        # pooled points weighs every measured point once; where every sequence
+        # has the same counts it has the same minimiser as the mean-curve fit.
+        mean_fit = fit_saturation(np.tile(n, y.shape[0]), y.ravel(), model)
+    else:
+        with np.errstate(invalid="ignore", divide="ignore"):
+            mean = np.where(finite, y, 0.0).sum(axis=0) / finite.sum(axis=0)
+        mean_fit = fit_saturation(n, mean, model)
     vals = np.array([f.intensity for f in fits if f is not None])
     nan = float("nan")
     return SequenceSaturation(

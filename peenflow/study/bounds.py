@@ -54,6 +54,8 @@ BOUNDS: tuple[Bound, ...] = (
           "a 1000 % sequence finishes on the coarsest mesh (micro study, 100 um, 3 seeds); 10 000 % there ran "
           "away at 4100-5200 % (runaway energy, plastic strain near 10; BENCHMARKS.md 4b)"),
     Bound("almen.shot_counts", 1.0, 5120.0, "shots", "the longest strip ladder run (paper_al7075_coarse.toml)"),
+    Bound("almen.first_shots", 1.0, 1280.0, "shots", "a ladder of >= 3 doubling rungs within almen.max_shots"),
+    Bound("almen.max_shots", 1.0, 5120.0, "shots", "as almen.shot_counts"),
     Bound("almen.sequences", 1.0, 64.0, "", "cost: each sequence is a full ladder of REV runs"),
     Bound("target.sequences", 1.0, 64.0, "", "cost: each sequence is a full REV run"),
     Bound("coverage.sequences", 1.0, 10000.0, "", "Monte Carlo cost"),

@@ -12,7 +12,7 @@ import hashlib
 import math
 from typing import Annotated, Any, Literal, Optional
 
-from pydantic import AfterValidator, Field, PrivateAttr, StrictBool, model_validator
+from pydantic import AfterValidator, Field, PrivateAttr, StrictBool, WrapValidator, model_validator
 
 from .intensity import parse_intensity
 from .items import Material, Shot, Strip
@@ -82,6 +82,22 @@ def _check_rev(section: str, rule: str, rev_size_mm, measure_size_mm) -> None:
         )
 
 
+def _auto_or(value, handler):
+    """``"auto"`` as it is (a ladder that extends itself), anything else validated as a ladder.
+
+    (A union type would report every error twice, once per branch.)"""
+    if isinstance(value, str):
+        if value == "auto":
+            return value
+        raise ValueError('expected "auto" or a list of shot counts')
+    return handler(value)
+
+
+#: defaults of the "auto" ladder: the paper's first rung; the longest ladder run so far (bounds.py)
+FIRST_SHOTS = 10
+MAX_SHOTS = 5120
+
+
 class Almen(ShotScaled):
     """[almen]: the control-curve sweep on an Almen strip REV (paper section 4).
 
@@ -99,8 +115,14 @@ class Almen(ShotScaled):
         description="shot velocities in m/s, e.g. [25, 35, 45, 55]"
     )
     shot_counts: Annotated[
-        tuple[PositiveInt, ...], Field(min_length=3), strictly_increasing("shot counts")
-    ] = Field(description="the saturation ladder, e.g. [10, 20, 40, 80, 160, 320, 480] (at least 3 for eq. (10))")
+        tuple[PositiveInt, ...], Field(min_length=3), strictly_increasing("shot counts"), WrapValidator(_auto_or)
+    ] = Field(description='the saturation ladder, e.g. [10, 20, 40, 80, 160, 320, 480] (at least 3 for eq. (10)), '
+                          'or "auto": a doubling ladder from first_shots that stops where eq. (11) is satisfied '
+                          'inside its own data (a rung at >= 2 T), at most max_shots')
+    first_shots: Optional[PositiveInt] = Field(
+        None, description='first rung of the "auto" ladder (default 10, the paper\'s first)')
+    max_shots: Optional[PositiveInt] = Field(
+        None, description='cap of the "auto" ladder: its last rung if saturation is not reached before (default 5120)')
     sequences: PositiveInt = Field(6, description="number of random shot sequences per (angle, velocity)")
     rev_rule: Literal["dmin", "paper", "explicit"] = Field(
         description='"dmin": side 3 d_min from the two-shot search; "paper": 6D x 6D with a 2D x 2D '
@@ -120,6 +142,33 @@ class Almen(ShotScaled):
     )
 
     _fill_rule = model_validator(mode="before")(_rev_rule_default)
+
+    @model_validator(mode="after")
+    def _ladder(self) -> "Almen":
+        if not self.ladder_auto:
+            for key in ("first_shots", "max_shots"):
+                if getattr(self, key) is not None:
+                    raise ValueError(f'almen.{key} = {getattr(self, key)!r} needs almen.shot_counts = "auto" '
+                                     f"(a given ladder has its own rungs)")
+            return self
+        first, cap = self.ladder_first_shots, self.ladder_max_shots
+        if cap <= 2 * first:
+            raise ValueError(f"almen.first_shots = {first}: the ladder to almen.max_shots = {cap} has fewer "
+                             f"than the 3 rungs eq. (10) needs (max_shots > 2 x first_shots = {2 * first})")
+        return self
+
+    @property
+    def ladder_auto(self) -> bool:
+        """True when the strip ladder extends itself (``shot_counts = "auto"``)."""
+        return self.shot_counts == "auto"
+
+    @property
+    def ladder_first_shots(self) -> int:
+        return self.first_shots or FIRST_SHOTS
+
+    @property
+    def ladder_max_shots(self) -> int:
+        return self.max_shots or MAX_SHOTS
 
     @model_validator(mode="after")
     def _rev(self) -> "Almen":

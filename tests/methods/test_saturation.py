@@ -93,3 +93,22 @@ def test_failed_sequence_is_recorded_not_fatal():
     res = fit_sequences(N, np.vstack([good, bad]), "exp2")
     assert res.fits[1] is None and ">= 3 distinct" in res.errors[1]
     assert res.fits[0] is not None
+
+
+def test_ragged_ladders_pool_their_points_and_equal_ladders_fit_the_mean_curve():
+    """Sequences that stopped at different rungs (almen.shot_counts = "auto"): NaN-padded rows."""
+    B, d, p = -0.3e-3 * 60**0.8, 60.0, 0.8
+    exact = fit_saturation(N, eq10_paper(N, B, d, p))
+    y = np.vstack([eq10_paper(N, B, d, p)] * 2)
+    y[1, 5:] = np.nan  # the second sequence stopped at 160 shots
+    ragged = fit_sequences(N, y)
+    assert ragged.mean_fit.intensity == pytest.approx(exact.intensity, rel=1e-6)
+    assert ragged.mean_fit.saturation_shots == pytest.approx(exact.saturation_shots, rel=1e-6)
+    assert ragged.mean_fit.counts.size == 7 + 5  # every measured point once, none invented
+    # equal ladders: the mean-curve fit, whose minimiser the pooled least squares shares
+    rng = np.random.default_rng(3)
+    noisy = eq10_paper(N, B, d, p) * (1 + 0.03 * rng.standard_normal((4, N.size)))
+    mean = fit_sequences(N, noisy).mean_fit
+    pooled = fit_saturation(np.tile(N, 4), noisy.ravel())
+    assert mean.intensity == pytest.approx(pooled.intensity, rel=1e-6)
+    assert mean.saturation_shots == pytest.approx(pooled.saturation_shots, rel=1e-5)

@@ -81,6 +81,10 @@ def test_each_bound_refuses_just_outside_and_accepts_its_edges(write_study, boun
         if bound.key == "almen.shot_counts":
             v = int(v)
             return {**extra, bound.key: [max(v - 2, 1), max(v - 1, 2), v] if v >= 3 else [v, v + 1, v + 2]}
+        if bound.key in ("almen.first_shots", "almen.max_shots"):  # the "auto" ladder, >= 3 rungs possible
+            v = int(v)
+            other = {"almen.max_shots": 4 * v} if name == "first_shots" else {"almen.first_shots": 1}
+            return {"almen.shot_counts": "auto", **other, bound.key: v}
         if isinstance(bound.low, float) and name in ("sequences", "grid_points"):
             v = int(v)
         return {**extra, bound.key: [v] if listed else v}

@@ -35,6 +35,8 @@ CHANGES = {
     "Almen.angles_deg": ({}, {"almen.angles_deg": [45.0, 90.0]}),
     "Almen.velocities_m_s": ({}, {"almen.velocities_m_s": [25.0, 35.0, 45.0]}),
     "Almen.shot_counts": ({}, {"almen.shot_counts": [10, 20, 40, 160]}),
+    "Almen.first_shots": ({"almen.shot_counts": "auto", "almen.first_shots": 10}, {"almen.first_shots": 20}),
+    "Almen.max_shots": ({"almen.shot_counts": "auto", "almen.max_shots": 640}, {"almen.max_shots": 1280}),
     "Almen.sequences": ({}, {"almen.sequences": 3}),
     "Almen.rev_rule": ({}, {"almen.rev_rule": "paper"}),
     "Almen.rev_size_mm": (EXPLICIT_REVS, {"almen.rev_size_mm": 3.0}),
