@@ -37,10 +37,11 @@ def _kill_loop(tmp_path, kills: int, seed: int):
     study = write_toy(tmp_path / "killed", **TOY)
     store = tmp_path / "killed" / ".peenflow"
     finished: dict[str, tuple[int, bytes]] = {}
+    stretch = 1.0  # on a loaded machine the imports alone can outlast a wait: lengthen it until results land
     for _ in range(kills):
         proc = subprocess.Popen([sys.executable, "-m", "peenflow.cli", "run", str(study), "--workers", "2"],
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-        time.sleep(rng.uniform(1.5, 4.5))  # python and the imports take ~1.5 s of it
+        time.sleep(stretch * rng.uniform(1.5, 4.5))  # python and the imports take ~1.5 s of it
         os.killpg(proc.pid, signal.SIGKILL)
         proc.wait()
         for p in store.glob("results/*/*.nc"):  # a finished result is never touched again
@@ -49,6 +50,8 @@ def _kill_loop(tmp_path, kills: int, seed: int):
                 assert finished[p.name] == stamp, f"{p.name} was rewritten after a kill"
             elif (p.with_suffix(".json")).exists():
                 finished[p.name] = stamp
+        if not finished:
+            stretch = min(2.0 * stretch, 8.0)
     peenflow("run", study, "--workers", "2", timeout=300)
     for name, stamp in finished.items():
         p = next(store.glob(f"results/*/{name}"))
