@@ -518,8 +518,7 @@ def run_impacts(
         return st.with_records(np.array(records).reshape(-1, len(SHOT_RECORD_FIELDS))).to_dict()
 
     start = int(st.shot_index[0])
-    warned = False
-    window_note = ""
+    window_note = ""  # the first outside-the-envelope window of this call (checked until one is found)
     for i in range(start, len(shots)):
         shot, frac = _shot_vector(shots, i, model, options.friction)
         vel = shot[3:6].copy()
@@ -563,9 +562,8 @@ def run_impacts(
                     (lat_y + max(-travel[1], 0.0), lat_y + max(travel[1], 0.0)),
                     depth,
                 )
-                why = None if warned else _window_validity(model, material, win, hit_xy[0], hit_xy[1], t_est)
+                why = None if window_note else _window_validity(model, material, win, hit_xy[0], hit_xy[1], t_est)
                 if why is not None:
-                    warned = True
                     window_note = f"shot {i}: {why}"
                 if why is not None and options.window_warning:
                     warnings.warn(f"shot {i}: the active window {tuple(int(w) for w in win)} (element box) is "
