@@ -107,10 +107,47 @@ def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: s
     Path(store.root).mkdir(parents=True, exist_ok=True)
     registration = register_run(store, graph.name)
     try:
+        if graph.growing:
+            return _execute_growing(graph, store, nodes, forced, scheduler, workers, threads, reporter,
+                                    progress_every_s)
         return _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter, progress_every_s)
     finally:
         if registration is not None:
             registration.release()
+
+
+def _execute_growing(graph, store, nodes, forced, scheduler, workers, threads, reporter, progress_every_s):
+    """Rounds: grow the graph from the store, run what is not waiting on an undecided group, repeat.
+
+    Each round runs every point it can in parallel (the new points of all
+    groups together); a point runs once per call (a forced one too).  Stops
+    when a round has nothing to run: every group decided, or waiting on a
+    point that failed or was interrupted.
+    """
+    from .growth import held, resolve, with_grown
+    from .interrupt import stop_requested
+
+    requested = list(nodes)
+    ran: dict[str, Outcome] = {}
+    outcomes: list[Outcome] = []
+    while True:
+        requested = with_grown(graph, requested, resolve(graph, store))
+        waiting = {id(n) for n in held(graph)}
+        todo = [n for n in requested if n.node_id not in ran and id(n) not in waiting]
+        if not todo or stop_requested():
+            break
+        done = _execute(graph, store, todo, set(forced) - set(ran), scheduler, workers, threads, reporter,
+                        progress_every_s, previous=ran)
+        ran.update((o.node_id, o) for o in done)
+        outcomes.extend(done)
+    for per in graph.growth.values():
+        for st in per.values():
+            if st.state == "error":
+                reporter.line(f"! {st.sweep.stage} {st.coords}: {st.reason}")
+                outcomes.append(Outcome(f"{st.sweep.stage}[growth]", st.sweep.stage, "", st.coords,
+                                        st.sweep.nodes[0].task.name, None, "failed", "growth rule failed",
+                                        st.reason, error=st.reason))
+    return outcomes
 
 
 CLEAN_WAIT_S = 0.2
@@ -135,7 +172,7 @@ def register_run(store: DirectoryStore, study: str):
         time.sleep(CLEAN_WAIT_S)
 
 
-def _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter, progress_every_s):
+def _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter, progress_every_s, previous=None):
     cores = available_cores()
     budget = None
     if scheduler is None:
@@ -147,7 +184,10 @@ def _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter,
         threads = threads or 1
     reporter.expect(nodes)
     specs = point_specs(graph, nodes, store, set(forced), threads)
-    dsk = {nid: (run_node, spec, ups) for nid, (spec, ups) in specs.items()}
+    # upstream points run in an earlier round (growing sweeps) enter as their outcomes
+    previous = previous or {}
+    dsk = {nid: (run_node, spec, [u if u in specs else previous[u] for u in ups])
+           for nid, (spec, ups) in specs.items()}
     keys = list(dsk)
     every = progress_every_s or float(os.environ.get("PEENFLOW_PROGRESS_EVERY_S", 0)) or reporter.poll_s
     monitor = _ProgressMonitor(store, graph.name, reporter, every)

@@ -64,11 +64,23 @@ class Group:
 
 @dataclass(eq=False)
 class Sweep:
-    """The points of one swept stage, with their coordinates."""
+    """The points of one swept stage, with their coordinates.
+
+    A growing sweep (``grow``, see :mod:`.growth`) starts with the first
+    ``grow.start`` values of ``grow.dim`` and gains the next value per group of
+    its other dims when ``grow.until`` asks for it: ``make_node(coords)``
+    builds such a point the way :meth:`Graph.sweep` built the others, and every
+    :class:`Group` handed downstream is kept in ``groups`` (with the coordinates
+    it was selected by) so a new point joins the groups it belongs to.
+    """
 
     stage: str
     dims: tuple[str, ...]
     nodes: list[Node]
+    grow: Any = None  # growth.Grow | None
+    grow_values: list = field(default_factory=list)  # every value grow.dim may take, in order
+    make_node: Any = None  # coords -> Node (growing sweeps only)
+    groups: list = field(default_factory=list)  # [(selecting coords, Group)] handed downstream
 
     def select(self, **coords) -> Group | Node:
         """Points matching ``coords``; a single point if every dim is fixed."""
@@ -79,10 +91,14 @@ class Sweep:
         rest = tuple(d for d in self.dims if d not in coords)
         if not rest and len(picked) == 1:
             return picked[0]
-        return Group(picked, rest)
+        group = Group(picked, rest)
+        self.groups.append((dict(coords), group))
+        return group
 
     def all(self) -> Group:
-        return Group(list(self.nodes), self.dims)
+        group = Group(list(self.nodes), self.dims)
+        self.groups.append(({}, group))
+        return group
 
 
 class Graph:
@@ -102,6 +118,11 @@ class Graph:
         self.headline = None
         #: attributes of sweep coordinates in stored results, ``{dim: {"units": ..., "long_name": ...}}``
         self.coord_attrs: dict = {}
+        #: sweeps with a growing dimension (:mod:`.growth`), in graph order
+        self.growing: list[Sweep] = []
+        #: where each group of a growing sweep stands after the last ``growth.resolve``
+        #: (``{stage: {group label: growth.GroupState}}``)
+        self.growth: dict = {}
 
     # -- building -----------------------------------------------------------
     def _register_stage(self, task: Task, stage: str | None) -> str:
@@ -121,10 +142,15 @@ class Graph:
 
     def sweep(self, task: Task, dims: Mapping[str, Iterable], params: Mapping | None = None,
               upstream: Mapping | None = None, stage: str | None = None,
-              point_params=None) -> Sweep:
+              point_params=None, grow=None) -> Sweep:
         """One point per combination of ``dims`` (their values become parameters too).
 
         ``point_params(coords) -> dict`` may add parameters that depend on the point.
+        ``grow``: a :class:`.growth.Grow` on one of ``dims`` -- only its first
+        ``grow.start`` values get points now; the others are added per group of
+        the remaining dims while ``grow.until`` asks for more (``plan`` and
+        ``execute`` do that, from stored results).  A point's parameters and
+        key do not depend on how many values its dim has grown to.
         """
         stage = self._register_stage(task, stage)
         names = tuple(dims)
@@ -132,18 +158,32 @@ class Graph:
         for d, vals in zip(names, values):
             if len({canonical_json(v) for v in vals}) != len(vals):
                 raise ValueError(f"sweep dim {d!r} of stage {stage!r} has repeated values: {vals}")
-        nodes = []
-        for combo in itertools.product(*values):
-            coords = dict(zip(names, combo))
+        upstream = dict(upstream or {})
+
+        def make_node(coords: dict) -> Node:
             p = dict(params or {})
             p.update(coords)
             if point_params is not None:
                 p.update(point_params(coords))
-            up = {k: self._align(v, coords) for k, v in (upstream or {}).items()}
-            node = Node(task, stage, canonical_value(p), up, coords=coords)
-            nodes.append(node)
+            up = {k: self._align(v, coords) for k, v in upstream.items()}
+            return Node(task, stage, canonical_value(p), up, coords=dict(coords))
+
+        sweep = Sweep(stage, names, [])
+        if grow is not None:
+            if grow.dim not in names:
+                raise ValueError(f"stage {stage!r} grows dim {grow.dim!r}, which is not one of its dims {names}")
+            i = names.index(grow.dim)
+            if not 1 <= grow.start <= len(values[i]):
+                raise ValueError(f"stage {stage!r}: grow.start = {grow.start} must be between 1 and the "
+                                 f"{len(values[i])} values of {grow.dim!r}")
+            sweep.grow, sweep.grow_values, sweep.make_node = grow, values[i], make_node
+            values[i] = values[i][:grow.start]
+            self.growing.append(sweep)
+        for combo in itertools.product(*values):
+            node = make_node(dict(zip(names, combo)))
+            sweep.nodes.append(node)
             self.nodes.append(node)
-        return Sweep(stage, names, nodes)
+        return sweep
 
     @staticmethod
     def _align(up, coords):

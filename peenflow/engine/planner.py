@@ -49,7 +49,23 @@ def _upstream_hashes(node: Node, items: dict) -> dict | None:
 
 def plan(graph: Graph, store: DirectoryStore, nodes: list[Node] | None = None,
          forced: set[str] = frozenset()) -> list[PlanItem]:
-    """One :class:`PlanItem` per node, in graph order."""
+    """One :class:`PlanItem` per node, in graph order.
+
+    A graph with growing sweeps is first grown from what the store holds
+    (:func:`.growth.resolve`); points so added join ``nodes`` where their
+    sweep already has a point there.
+    """
+    if graph.growing:
+        from .growth import resolve, with_grown
+
+        added = resolve(graph, store)
+        nodes = None if nodes is None else with_grown(graph, nodes, added)
+    return plan_items(graph, store, nodes, forced)
+
+
+def plan_items(graph: Graph, store: DirectoryStore, nodes: list[Node] | None = None,
+               forced: set[str] = frozenset()) -> list[PlanItem]:
+    """:func:`plan` of the graph as it stands (no growth)."""
     nodes = graph.nodes if nodes is None else nodes
     items: dict[int, PlanItem] = {}
     for node in nodes:

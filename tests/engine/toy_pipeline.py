@@ -106,3 +106,39 @@ def build_probe(path) -> Graph:
     g.add(probe, stage="lone", upstream={"after": wide} if toy.get("lone_after_wide", True) else {},
           params={"member": -1, "hold_s": toy["hold_s"]})
     return g
+
+
+@task()
+def draw(*, factor: float, rep: int) -> xr.Dataset:
+    """One 'repetition' of a factor: the value factor * (rep + 1)."""
+    _log("draw", f"{factor}/{rep}")
+    if f"{factor}/{rep}" == os.environ.get("TOY_FAIL_DRAW"):
+        raise RuntimeError(f"draw {factor}/{rep} fails on purpose")
+    return xr.Dataset({"value": ((), float(factor) * (rep + 1))})
+
+
+@task()
+def pooled(draws: xr.Dataset, *, factor: float) -> xr.Dataset:
+    """Everything a factor's repetitions add up to (consumes the whole grown group)."""
+    _log("pooled", int(draws.sizes["rep"]))
+    return xr.Dataset({"sum": draws.value.sum("rep"), "reps": ((), int(draws.sizes["rep"]))})
+
+
+def build_growing(path) -> Graph:
+    """draw[factor, rep] grows in rep until the group's values add up to ``target``
+    (at most ``max_reps``); pooled[factor] sums each factor's group."""
+    from peenflow.engine.growth import Grow, GrowVerdict
+
+    with open(path, "rb") as f:
+        cfg = tomllib.load(f)
+    toy = cfg["toy"]
+
+    def until(datasets, coords):
+        s = sum(float(d.value) for d in datasets)
+        return GrowVerdict(s < toy["target"], f"sum {s:g} against {toy['target']:g}")
+
+    g = Graph(cfg["study"]["name"])
+    draws = g.sweep(draw, dims={"factor": toy["factors"], "rep": list(range(toy["max_reps"]))},
+                    grow=Grow("rep", toy.get("start", 1), until))
+    g.sweep(pooled, dims={"factor": toy["factors"]}, upstream={"draws": draws})
+    return g
