@@ -5,6 +5,7 @@
     strip_impact[angle] -> strip_dmin[angle] -> strip_rev            (almen.rev_rule = "dmin")
     strip_impact[angle] -> strip_indentation[angle] + strip_rev -> strip_coverage[angle]   (Fig. 11)
     strip_rev -> strip_runs[angle, velocity, sequence] -> arc_height[angle, velocity]
+              (sequence grows per point with almen.sequence_tolerance_mm: tasks/strip_sequences.py)
               -> saturation[angle, velocity] -> control_curve
     control_curve -> target_velocity -> target_impact -> target_indentation
     target_impact -> target_dmin -> target_rev                       (no target.rev_size_mm)
@@ -22,6 +23,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from peenflow.engine import Graph
+from peenflow.engine.growth import Grow
 from peenflow.study import load_study
 
 from ._common import SWEEP_COORDS
@@ -38,6 +40,7 @@ from .rev_thickness import rev_thickness
 from .saturation import saturation
 from .single_impact import single_impact
 from .strip_runs import strip_runs
+from .strip_sequences import sequences_rule
 from .target_runs import target_runs
 from .target_velocity import target_velocity
 from .two_shot import dmin
@@ -142,11 +145,18 @@ def build_graph(path) -> Graph:
                                  "fit": almen.saturation_fit, "strip": strip_p}}
         else:
             ladder = {"shot_counts": list(almen.shot_counts)}
-        runs = g.sweep(strip_runs, dims={**sweep, "sequence": list(range(almen.sequences))}, upstream={"rev": rev},
+        grow, adaptive = None, {}
+        if almen.sequences_adaptive:  # sequences added per point until the intensity's error is small enough
+            adaptive = {"sequence_tolerance_mm": almen.sequence_tolerance_mm, "sequences_start": almen.sequences,
+                        "sequences_max": almen.sequences_cap}
+            grow = Grow("sequence", almen.sequences, sequences_rule(
+                tolerance_mm=almen.sequence_tolerance_mm, n_start=almen.sequences, n_max=almen.sequences_cap,
+                fit=almen.saturation_fit, strip=strip_p))
+        runs = g.sweep(strip_runs, dims={**sweep, "sequence": list(range(almen.sequences_cap))}, upstream={"rev": rev},
                        params={"material": smat, "shot": shot, "fidelity": fid, **ladder},
-                       point_params=lambda c: {"seed": study.seeds.seed("almen", c["sequence"])})
+                       point_params=lambda c: {"seed": study.seeds.seed("almen", c["sequence"])}, grow=grow)
         arc = g.sweep(arc_height, dims=sweep, upstream={"runs": runs}, params=strip_p)
-        sat = g.sweep(saturation, dims=sweep, upstream={"arc": arc}, params={"fit": almen.saturation_fit})
+        sat = g.sweep(saturation, dims=sweep, upstream={"arc": arc}, params={"fit": almen.saturation_fit, **adaptive})
         control = g.add(control_curve, upstream={"sat": sat}, params={"interpolation": almen.interpolation})
 
     if study.target is not None:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from peenflow.methods import fit_sequences
+from peenflow.methods import fit_sequences, sequences_verdict
 
 from ._common import MM, peening_task, var
 
@@ -21,8 +21,13 @@ MODELS = {"paper": "eq10", "exponential_2p": "exp2", "exponential_3p": "exp3"}
 
 @peening_task(version="1")
 def saturation(arc: xr.Dataset, *, fit: str = "paper", angle_deg: float | None = None,
-               velocity_m_s: float | None = None) -> xr.Dataset:
+               velocity_m_s: float | None = None, sequence_tolerance_mm: float | None = None,
+               sequences_start: int | None = None, sequences_max: int | None = None) -> xr.Dataset:
     """``arc``: arc_height_mm with dims (sequence, shots) for the point (angle_deg, velocity_m_s).
+
+    With adaptive sequences (``sequence_tolerance_mm``, mm) the verdict of the
+    rule that grew them is recorded: whether the standard error met the
+    tolerance, the standard error and its 95 % bound (tasks/strip_sequences.py).
 
     Returns intensities in mm."""
     counts = arc.shots.values.astype(float)
@@ -34,6 +39,15 @@ def saturation(arc: xr.Dataset, *, fit: str = "paper", angle_deg: float | None =
     mean = result.mean_fit
     n_fine = np.geomspace(max(1.0, counts.min() / 2), counts.max() * 1.5, 80)
     errors = [e or "" for e in result.errors]
+    rule = {}
+    if sequence_tolerance_mm is not None:
+        v = sequences_verdict(per_seq, sequence_tolerance_mm, n_min=sequences_start, n_max=sequences_max)
+        rule = {"intensity_standard_error_mm": var(v.standard_error, (), "mm",
+                                                   "standard error of the per-sequence intensities' mean"),
+                "intensity_standard_error_bound_mm": var(v.bound, (), "mm",
+                                                         "95 % upper confidence bound of that standard error"),
+                "sequence_tolerance_met": var(int(v.met), (), "1", "1 if the bound is within the tolerance",
+                                              flag_values=np.array([0, 1]), flag_meanings="not_met met")}
     return xr.Dataset(
         {
             "intensity_mm": var(mean.intensity / MM, (), "mm", "Almen intensity from the mean curve (eq. 11)"),
@@ -50,11 +64,15 @@ def saturation(arc: xr.Dataset, *, fit: str = "paper", angle_deg: float | None =
             "fit_arc_height_mm": var(mean.arc_height(n_fine) / MM, ("shots_fine",), "mm", "fitted mean curve"),
             "mean_arc_height_mm": var(np.nanmean(ah_m, axis=0) / MM, ("shots",), "mm", "arc height, mean over sequences"),
             "fit_residual_rms_mm": var(mean.residual_rms / MM, (), "mm", "RMS residual of the mean-curve fit"),
+            **rule,
         },
         coords={"sequence": var(arc.sequence.values, ("sequence",), "1", "random shot sequence number"),
                 "shots": var(counts, ("shots",), "1", "number of shots N"),
                 "shots_fine": var(n_fine, ("shots_fine",), "1", "number of shots N (fine grid of the fitted curve)")},
         attrs={"fit_model": mean.model,
                "fit_parameters": ", ".join(f"{k}={v:.6g}" for k, v in mean.parameters.items()),
-               "sequence_fit_errors": " | ".join(errors)},
+               "sequence_fit_errors": " | ".join(errors),
+               **({"sequences_rule": f"tolerance {sequence_tolerance_mm:g} mm on the standard error "
+                                     f"(95 % bound), {sequences_start} to {sequences_max} sequences: "
+                                     f"{v.reason}"} if rule else {})},
     )

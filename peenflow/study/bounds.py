@@ -57,6 +57,10 @@ BOUNDS: tuple[Bound, ...] = (
     Bound("almen.first_shots", 1.0, 1280.0, "shots", "a ladder of >= 3 doubling rungs within almen.max_shots"),
     Bound("almen.max_shots", 1.0, 5120.0, "shots", "as almen.shot_counts"),
     Bound("almen.sequences", 1.0, 64.0, "", "cost: each sequence is a full ladder of REV runs"),
+    Bound("almen.max_sequences", 2.0, 64.0, "", "as almen.sequences"),
+    Bound("almen.sequence_tolerance_mm", 1e-4, 0.05, "mm",
+          "1e-4 mm is below any arc-height resolution; above 0.05 mm (10 % of a typical intensity) the "
+          "rule stops at the first two sequences"),
     Bound("target.sequences", 1.0, 64.0, "", "cost: each sequence is a full REV run"),
     Bound("coverage.sequences", 1.0, 10000.0, "", "Monte Carlo cost"),
     Bound("coverage.grid_points", 2.0, 2001.0, "", "memory of the measuring grid (points^2)"),

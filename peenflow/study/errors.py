@@ -205,6 +205,8 @@ def translate(
             msg = str(ctx.get("error", err["msg"]))
             if not loc or isinstance(value, dict) or isinstance(value, BaseModel):
                 shown = None  # a whole-table check: its message names the keys
+                if msg.startswith(f"{key}."):  # ... first the one at fault: no "almen: almen.x" stutter
+                    key = ""
         elif kind == "finite_number":
             msg = "expected a finite number (not nan or inf)"
         elif kind in _TYPE_EXPECTED:

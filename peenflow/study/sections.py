@@ -96,6 +96,8 @@ def _auto_or(value, handler):
 #: defaults of the "auto" ladder: the paper's first rung; the longest ladder run so far (bounds.py)
 FIRST_SHOTS = 10
 MAX_SHOTS = 5120
+#: default cap of the adaptive sequences: (sigma / tol)^2 ~ 10 with the rule's 1.6x margin (methods/sequences.py)
+MAX_SEQUENCES = 16
 
 
 class Almen(ShotScaled):
@@ -123,7 +125,14 @@ class Almen(ShotScaled):
         None, description='first rung of the "auto" ladder (default 10, the paper\'s first)')
     max_shots: Optional[PositiveInt] = Field(
         None, description='cap of the "auto" ladder: its last rung if saturation is not reached before (default 5120)')
-    sequences: PositiveInt = Field(6, description="number of random shot sequences per (angle, velocity)")
+    sequences: PositiveInt = Field(6, description="number of random shot sequences per (angle, velocity); "
+                                               "with sequence_tolerance_mm, the number each point starts with")
+    sequence_tolerance_mm: Optional[Positive] = Field(
+        None, description="adaptive sequences: add sequences to each (angle, velocity), one at a time from "
+                          "`sequences` (>= 2), until the 95 % upper bound of the standard error of its "
+                          "intensity is at most this (mm), or max_sequences are run")
+    max_sequences: Optional[PositiveInt] = Field(
+        None, description="cap of the adaptive sequences (default 16); needs sequence_tolerance_mm")
     rev_rule: Literal["dmin", "paper", "explicit"] = Field(
         description='"dmin": side 3 d_min from the two-shot search; "paper": 6D x 6D with a 2D x 2D '
         'measuring region (section 4.1); "explicit": rev_size_mm'
@@ -156,6 +165,33 @@ class Almen(ShotScaled):
             raise ValueError(f"almen.first_shots = {first}: the ladder to almen.max_shots = {cap} has fewer "
                              f"than the 3 rungs eq. (10) needs (max_shots > 2 x first_shots = {2 * first})")
         return self
+
+    @model_validator(mode="after")
+    def _adaptive_sequences(self) -> "Almen":
+        if self.sequence_tolerance_mm is None:
+            if self.max_sequences is not None:
+                raise ValueError(f"almen.max_sequences = {self.max_sequences!r} needs almen.sequence_tolerance_mm "
+                                 "(the adaptive sequences it caps)")
+            return self
+        if self.sequences < 2:
+            raise ValueError(f"almen.sequences = {self.sequences}: adaptive sequences (sequence_tolerance_mm) "
+                             "start with at least 2 (one sequence has no spread)")
+        if self.sequences_cap < self.sequences:
+            raise ValueError(f"almen.max_sequences = {self.sequences_cap} is below almen.sequences = "
+                             f"{self.sequences}, the number each point starts with")
+        return self
+
+    @property
+    def sequences_adaptive(self) -> bool:
+        """True when sequences are added until the intensity's standard error meets the tolerance."""
+        return self.sequence_tolerance_mm is not None
+
+    @property
+    def sequences_cap(self) -> int:
+        """The most sequences a point may have: max_sequences (default 16) when adaptive, else `sequences`."""
+        if not self.sequences_adaptive:
+            return self.sequences
+        return self.max_sequences or MAX_SEQUENCES
 
     @property
     def ladder_auto(self) -> bool:

@@ -85,6 +85,9 @@ def test_each_bound_refuses_just_outside_and_accepts_its_edges(write_study, boun
             v = int(v)
             other = {"almen.max_shots": 4 * v} if name == "first_shots" else {"almen.first_shots": 1}
             return {"almen.shot_counts": "auto", **other, bound.key: v}
+        if bound.key in ("almen.max_sequences", "almen.sequence_tolerance_mm"):  # adaptive sequences
+            other = {"almen.sequence_tolerance_mm": 0.005} if name == "max_sequences" else {}
+            return {"almen.sequences": 2, **other, bound.key: int(v) if name == "max_sequences" else v}
         if isinstance(bound.low, float) and name in ("sequences", "grid_points"):
             v = int(v)
         return {**extra, bound.key: [v] if listed else v}

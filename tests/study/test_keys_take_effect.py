@@ -38,6 +38,10 @@ CHANGES = {
     "Almen.first_shots": ({"almen.shot_counts": "auto", "almen.first_shots": 10}, {"almen.first_shots": 20}),
     "Almen.max_shots": ({"almen.shot_counts": "auto", "almen.max_shots": 640}, {"almen.max_shots": 1280}),
     "Almen.sequences": ({}, {"almen.sequences": 3}),
+    # adaptive sequences: the saturation stage records the rule it was grown by (tasks/strip_sequences.py)
+    "Almen.sequence_tolerance_mm": ({"almen.sequences": 2}, {"almen.sequence_tolerance_mm": 0.004}),
+    "Almen.max_sequences": ({"almen.sequences": 2, "almen.sequence_tolerance_mm": 0.004},
+                            {"almen.max_sequences": 8}),
     "Almen.rev_rule": ({}, {"almen.rev_rule": "paper"}),
     "Almen.rev_size_mm": (EXPLICIT_REVS, {"almen.rev_size_mm": 3.0}),
     "Almen.measure_size_mm": ({**EXPLICIT_REVS, "almen.measure_size_mm": 1.0}, {"almen.measure_size_mm": 1.1}),
