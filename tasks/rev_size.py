@@ -40,8 +40,8 @@ def rev_size(dmin: xr.Dataset | None = None, thickness: xr.Dataset | None = None
         side = side_m
     if measure_side_m is not None:
         measure = measure_side_m
-    if not 0 < measure < side:
-        raise ValueError(f"measuring region {measure:.4g} m must be smaller than the REV side {side:.4g} m")
+    if not 0 < measure <= side:  # == side: the whole face (periodic lateral faces have no edge to avoid)
+        raise ValueError(f"measuring region {measure:.4g} m must be > 0 and at most the REV side {side:.4g} m")
     return xr.Dataset(
         {
             "rev_side_m": var(side, (), "m", "REV top-surface side"),

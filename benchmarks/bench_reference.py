@@ -1,0 +1,215 @@
+"""Issue 10 §1: study-level references -- a strip point refined until its intensity and profile stop
+changing (prints its figures; not a test).
+
+Usage (from the repository root)::
+
+    PYTHONPATH=. python benchmarks/bench_reference.py run POINT H_UM [H_UM ...]
+    PYTHONPATH=. python benchmarks/bench_reference.py table [POINT]
+
+POINT is a study file stem under ``benchmarks/reference/studies/`` (``strip_90_55``,
+``strip_67_35``).  ``run`` writes a copy of the study with ``[fidelity]
+element_size_um = H`` per level into ``benchmarks/reference/store/<POINT>/``
+(git-ignored; the results store is there too, so a killed run resumes where it
+stopped, across sessions), runs ``peenflow run --until saturation`` on it with
+one worker and one thread, and appends the level's figures to
+``benchmarks/reference/study_level.json``: the intensity (eq. 11 on the
+sequence-mean curve) and per-sequence intensities, saturation points, arc
+height at every rung, the sigma_xx(z) profile of the measuring region (mean
+over sequences) at every rung with its surface value, peak, peak depth and
+zero crossing, the process CPU time of the run (``RUSAGE_CHILDREN``: the
+machine may be shared), and the kernel's code fingerprint.  Every level uses
+the same seeds, so the meshes see the same shot streams: differences between
+levels are paired, with little of the sequences' sampling noise in them.
+
+``table`` prints, per point, each level's figures and their difference from
+the finest level, and a Richardson extrapolation from the three finest
+levels where they converge monotonically with an observed order in [0.5, 4]
+(ratios of element sizes need not be equal: the order solves
+(f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p)).  Profiles are compared
+at the largest rung every level reached.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+STUDIES = ROOT / "benchmarks" / "reference" / "studies"
+STORE = ROOT / "benchmarks" / "reference" / "store"
+OUT = ROOT / "benchmarks" / "reference" / "study_level.json"
+PROFILE_DEPTH_M = 0.5e-3
+
+
+def _level_study(point: str, h_um: float) -> Path:
+    text = (STUDIES / f"{point}.toml").read_text()
+    lines = []
+    for ln in text.splitlines():
+        if ln.split("#")[0].strip().startswith("element_size_um"):
+            ln = f"element_size_um = {h_um!r}"
+        lines.append(ln)
+    d = STORE / point
+    d.mkdir(parents=True, exist_ok=True)
+    path = d / f"h{h_um:g}.toml"
+    new = "\n".join(lines) + "\n"
+    if not path.exists() or path.read_text() != new:
+        path.write_text(new)
+    return path
+
+
+def profile_metrics(z_m: np.ndarray, s_pa: np.ndarray) -> dict:
+    """Surface value, peak (most compressive), its depth and the first zero crossing below it
+    (linear between layer centres) of a sigma_xx(z) profile (z m from the top, Pa)."""
+    k = int(np.argmin(s_pa))
+    zero = float("nan")
+    for i in range(k, len(s_pa) - 1):
+        if s_pa[i] < 0.0 <= s_pa[i + 1]:
+            zero = float(z_m[i] + (z_m[i + 1] - z_m[i]) * (-s_pa[i]) / (s_pa[i + 1] - s_pa[i]))
+            break
+    return {"surface_MPa": float(s_pa[0] / 1e6), "peak_MPa": float(s_pa[k] / 1e6),
+            "peak_depth_mm": float(z_m[k] * 1e3), "zero_depth_mm": zero * 1e3}
+
+
+def _collect(study: Path) -> dict:
+    from peenflow.api import load_study_graph
+    from peenflow.engine import DirectoryStore, stage_result
+
+    graph = load_study_graph(study)
+    store = DirectoryStore(study.parent / ".peenflow")
+    sat = stage_result(graph, store, "saturation")
+    runs = stage_result(graph, store, "strip_runs")
+    arc = stage_result(graph, store, "arc_height")
+    sq = lambda a: np.asarray(a).squeeze()  # noqa: E731 - the point's length-1 sweep dims
+    z_edges = sq(runs.z_edge_m)
+    z_edges = z_edges.reshape(-1, z_edges.shape[-1])[0]
+    zc = 0.5 * (z_edges[:-1] + z_edges[1:])
+    depth = zc if zc[0] >= 0 else -zc
+    if depth[0] > depth[-1]:
+        depth = depth.max() - depth  # depth below the top face
+    sxx = runs.stress_xx_Pa.transpose(..., "sequence", "shots", "layer")
+    sxx = np.asarray(sxx).reshape(-1, sxx.shape[-2], sxx.shape[-1]) if sxx.ndim > 3 else np.asarray(sxx)
+    shots = [int(n) for n in np.asarray(runs.shots)]
+    mean = np.nanmean(sxx, axis=0)  # (shots, layer)
+    order = np.argsort(depth)
+    profiles = {}
+    for k, n in enumerate(shots):
+        if np.all(np.isfinite(sxx[:, k])):  # every sequence reached this rung
+            prof = mean[k][order]
+            profiles[str(n)] = {**profile_metrics(depth[order], prof),
+                                "z_mm": (depth[order] * 1e3).round(6).tolist(),
+                                "sxx_MPa": (prof / 1e6).round(4).tolist()}
+    fp = runs.attrs.get("peenflow_code") or runs.attrs.get("peenflow_source_hash", "")
+    return {
+        "intensity_mm": float(sq(sat.intensity_mm)),
+        "intensity_extrapolated": int(sq(sat.intensity_extrapolated)),
+        "saturation_shots": float(sq(sat.saturation_shots)),
+        "sequence_intensity_mm": np.atleast_1d(sq(sat.sequence_intensity_mm)).tolist(),
+        "arc_height_mm": {str(n): np.atleast_1d(sq(arc.arc_height_mm.sel(shots=n))).tolist()
+                          for n in np.asarray(arc.shots).tolist()},
+        "profiles": profiles,
+        "code": str(fp),
+    }
+
+
+def run(point: str, levels: list[float]) -> None:
+    data = json.loads(OUT.read_text()) if OUT.exists() else {}
+    for h in levels:
+        study = _level_study(point, h)
+        t0, c0 = time.time(), resource.getrusage(resource.RUSAGE_CHILDREN)
+        cmd = [sys.executable, "-m", "peenflow.cli", "run", str(study), "--until", "saturation",
+               "--workers", "1", "--threads", "1", "--quiet"]
+        print("$", " ".join(cmd), flush=True)
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        print(proc.stdout[-3000:], proc.stderr[-3000:], flush=True)
+        if proc.returncode != 0:
+            print(f"level {h:g} um did not finish (rc {proc.returncode}); run again to resume")
+            return
+        entry = _collect(study)
+        key = f"{point}/{h:g}"
+        prev = data.get(key, {})
+        # CPU of this call; a resumed level keeps the sum of its calls
+        cpu = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)
+        entry["cpu_s"] = prev.get("cpu_s", 0.0) + cpu if prev.get("code") == entry["code"] else cpu
+        entry["wall_s"] = time.time() - t0
+        entry["command"] = f"PYTHONPATH=. python benchmarks/bench_reference.py run {point} {h:g}"
+        entry["date"] = time.strftime("%Y-%m-%d")
+        entry["commit"] = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
+                                         capture_output=True, text=True).stdout.strip()
+        data[key] = entry
+        OUT.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+        print(f"{key}: intensity {entry['intensity_mm']:.4f} mm, T {entry['saturation_shots']:.0f}, "
+              f"CPU {entry['cpu_s']:.0f} s")
+
+
+def richardson(hs, fs, p_range=(0.5, 4.0)):
+    """(extrapolated value, order) from three levels h1 > h2 > h3, or (None, None) when not monotone
+    or the order is outside ``p_range``."""
+    (h1, h2, h3), (f1, f2, f3) = hs, fs
+    if not (f1 - f2) * (f2 - f3) > 0:
+        return None, None
+    target = (f1 - f2) / (f2 - f3)
+    g = lambda p: (h1**p - h2**p) / (h2**p - h3**p) - target  # noqa: E731 - increasing in p
+    lo, hi = p_range
+    if g(lo) * g(hi) > 0:
+        return None, None
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if g(lo) * g(mid) > 0 else (lo, mid)
+    p = 0.5 * (lo + hi)
+    return f3 + (f3 - f2) * h3**p / (h2**p - h3**p), p
+
+
+def table(only: str | None = None) -> None:
+    data = json.loads(OUT.read_text()) if OUT.exists() else {}
+    points = sorted({k.split("/")[0] for k in data if only in (None, k.split("/")[0])})
+    for point in points:
+        levels = sorted(((float(k.split("/")[1]), v) for k, v in data.items() if k.startswith(point + "/")),
+                        reverse=True)
+        common = set.intersection(*(set(v["profiles"]) for _, v in levels))
+        rung = str(max(int(n) for n in common)) if common else None
+        print(f"\n#### {point} (profile at N = {rung})")
+        print("| h um | intensity mm | per sequence | T shots | surface MPa | peak MPa | peak depth mm | "
+              "zero crossing mm | CPU s | code |")
+        print("|---|---|---|---|---|---|---|---|---|---|")
+        for h, v in levels:
+            pm = v["profiles"].get(rung, {}) if rung else {}
+            print(f"| {h:g} | {v['intensity_mm']:.4f}{' (extrap.)' if v['intensity_extrapolated'] else ''} | "
+                  + ", ".join(f"{x:.4f}" for x in v["sequence_intensity_mm"])
+                  + f" | {v['saturation_shots']:.0f} | {pm.get('surface_MPa', float('nan')):.0f} | "
+                  f"{pm.get('peak_MPa', float('nan')):.0f} | {pm.get('peak_depth_mm', float('nan')):.3f} | "
+                  f"{pm.get('zero_depth_mm', float('nan')):.3f} | {v['cpu_s']:.0f} | {v['code'][:12]} |")
+        if len(levels) >= 3:
+            hs = [h for h, _ in levels[-3:]]
+            quantities = [("intensity_mm", lambda v: v["intensity_mm"])]
+            if rung:
+                for q in ("surface_MPa", "peak_MPa", "peak_depth_mm", "zero_depth_mm"):
+                    quantities.append((q, lambda v, q=q: v["profiles"][rung][q]))
+            for name, get in quantities:
+                fs = [get(v) for _, v in levels[-3:]]
+                ext, p = richardson(hs, fs)
+                finest = fs[-1]
+                if ext is None:
+                    print(f"- {name}: {', '.join(f'{f:.4g}' for f in fs)} at {', '.join(f'{h:g}' for h in hs)} um: "
+                          "not monotone or order outside [0.5, 4]: the finest value is the reference")
+                else:
+                    print(f"- {name}: Richardson {ext:.4g} (order {p:.2f}); finest level {finest:.4g} "
+                          f"({100 * (finest / ext - 1):+.1f} %)")
+
+
+if __name__ == "__main__":
+    os.chdir(ROOT)
+    if len(sys.argv) >= 4 and sys.argv[1] == "run":
+        run(sys.argv[2], [float(x) for x in sys.argv[3:]])
+    elif len(sys.argv) >= 2 and sys.argv[1] == "table":
+        table(sys.argv[2] if len(sys.argv) > 2 else None)
+    else:
+        print(__doc__)
+        sys.exit(2)
