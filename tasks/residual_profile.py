@@ -28,6 +28,7 @@ import xarray as xr
 from peenflow.methods import DepthProfile, equilibrium_residual
 
 from ._common import MPA, depth as depth_coord, peening_task, var
+from .params import MeasuredProfile, PlateParams
 
 
 def _peak(depth, values):
@@ -41,15 +42,15 @@ def _one_profile(values: np.ndarray) -> np.ndarray:
     return values.reshape(-1, values.shape[-1])[0] if values.ndim > 1 else values
 
 
-def _free_plate(z_edges: np.ndarray, stress: dict, part: dict) -> tuple[dict, dict]:
-    """Release of a plate of thickness H = ``part["thickness_m"]`` (module docstring).
+def _free_plate(z_edges: np.ndarray, stress: dict, part: PlateParams) -> tuple[dict, dict]:
+    """Release of a plate of thickness H = ``part.thickness_m`` (module docstring).
 
     ``stress``: {"xx": (n_layer,) Pa, "yy": ...} layer values; returns the
     released layer values (Pa) per component and the bow per component
     (1/m, positive when the peened face turns convex).
     """
-    H = part["thickness_m"]
-    E, nu = part["young_modulus_Pa"], part["poisson_ratio"]
+    H = part.thickness_m
+    E, nu = part.youngs_modulus_Pa, part.poisson_ratio
     released, moment, balance = {}, {}, {}
     for c, s in stress.items():
         prof = DepthProfile(z_edges, s)
@@ -65,13 +66,12 @@ def _free_plate(z_edges: np.ndarray, stress: dict, part: dict) -> tuple[dict, di
 
 
 @peening_task(version="3")
-def residual_profile(runs: xr.Dataset, *, measured: dict | None = None, free_part: dict | None = None) -> xr.Dataset:
-    """``runs``: target REV results combined over ``sequence``; ``measured``:
-    {"depth_m": [...], "stress_Pa": [...], "component": ["xx" | "yy", ...]}
-    (SI, one entry per measured point) or None;
-    ``free_part``: the part as a plate, {"thickness_m", "young_modulus_Pa",
-    "poisson_ratio"}, or None; the released profile and bow are added when the
-    REV spans that thickness (a thinner REV does not hold the part's resultants)."""
+def residual_profile(runs: xr.Dataset, *, measured: MeasuredProfile | None = None,
+                     free_part: PlateParams | None = None) -> xr.Dataset:
+    """``runs``: target REV results combined over ``sequence``; ``measured``: the
+    measured points (SI) or None; ``free_part``: the part as a plate, or None; the
+    released profile and bow are added when the REV spans that thickness (a
+    thinner REV does not hold the part's resultants)."""
     depth = _one_profile(runs.depth_m.values)
     out = {}
     means = {}
@@ -89,7 +89,7 @@ def residual_profile(runs: xr.Dataset, *, measured: dict | None = None, free_par
               "depth_m": depth_coord(depth, "layer", "layer mid-depth below the peened surface")}
     attrs = {"measured_profile": "none", "free_part": "no (the REV is thinner than the part)"}
     z_edges = _one_profile(runs.z_edge_m.values)
-    if free_part and abs(z_edges[-1] - free_part["thickness_m"]) <= 1e-9 * free_part["thickness_m"]:
+    if free_part and abs(z_edges[-1] - free_part.thickness_m) <= 1e-9 * free_part.thickness_m:
         released, bow, balance = _free_plate(z_edges, means, free_part)
         for c in ("xx", "yy"):
             out[f"stress_{c}_free_mean_MPa"] = var(
@@ -101,11 +101,11 @@ def residual_profile(runs: xr.Dataset, *, measured: dict | None = None, free_par
                 balance[c].relative_force, (), "1", "|∫σ dz| / ∫|σ| dz of the free part (0 = equilibrium)")
             out[f"free_relative_moment_{c}"] = var(
                 balance[c].relative_moment, (), "1", "|∫σ (z-H/2) dz| / ∫|σ||z-H/2| dz of the free part")
-        attrs["free_part"] = f"plate {free_part['thickness_m'] * 1e3:g} mm thick, released"
+        attrs["free_part"] = f"plate {free_part.thickness_m * 1e3:g} mm thick, released"
     if measured:
-        md = np.asarray(measured["depth_m"], dtype=float)
-        ms = np.asarray(measured["stress_Pa"], dtype=float) / MPA
-        comp = np.asarray(measured["component"])
+        md = np.asarray(measured.depth_m, dtype=float)
+        ms = np.asarray(measured.stress_Pa, dtype=float) / MPA
+        comp = np.asarray(measured.component)
         # each point against our mean profile of its own component
         ours = np.empty_like(md)
         for c in ("xx", "yy"):

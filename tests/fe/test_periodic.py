@@ -215,12 +215,15 @@ def test_window_touching_the_seam_must_span_it():
 def test_task_targets():
     """REV tasks take fidelity.lateral_boundary; impact blocks (quarter/half models) stay symmetric."""
     from tasks import _kernel as K
+    from tasks.params import FidelityParams
 
-    f = {"element_size_m": H, "fine_depth_m": 0.2e-3, "grading_ratio": 1.2, "lateral_boundary": "periodic"}
+    f = FidelityParams(element_size_m=H, fine_depth_m=0.2e-3, grading_ratio=1.2, time_step_safety=0.5,
+                       window_contact_radii=4.0, settle_tolerance=1e-6, relaxation_tolerance=1e-8,
+                       lateral_boundary="periodic")
     rev = K.rev_mesh(f, 24 * H, 0.6e-3)
-    assert K.target(rev, f).lateral == "periodic"
+    assert f.boundary(rev).lateral == "periodic"
     blk = K.impact_block(f, 0.6e-3, 0.6e-3, 0.2e-3, symmetric_x=True, symmetric_y=True)
-    assert K.target(blk, f, impact_block=True).lateral == "symmetric"
+    assert f.boundary(blk, impact_block=True).lateral == "symmetric"
 
 
 def test_shot_beyond_the_mesh_wraps():
