@@ -27,9 +27,11 @@ from peenflow.study import load_study
 from ._common import SWEEP_COORDS
 from .arc_height import arc_height
 from .control_curve import control_curve
-from .headline import headline_numbers
 from .coverage_curve import coverage_curve
+from .dmin import dmin
+from .headline import headline_numbers
 from .indentation import indentation
+from .params import study_params
 from .plots import write_plots
 from .report import write_report
 from .residual_profile import residual_profile
@@ -40,8 +42,6 @@ from .single_impact import single_impact
 from .strip_runs import strip_runs
 from .target_runs import target_runs
 from .target_velocity import target_velocity
-from .params import study_params
-from .two_shot import dmin
 
 #: single-impact / two-shot block: half width and depth in shot diameters
 IMPACT_BLOCK_D = 2.0

@@ -11,10 +11,10 @@ from peenflow.fe.mesh import BoxMesh, graded_axis, graded_box
 from peenflow.fe.model import Model, Target
 from peenflow.fe.relaxation import _forces, _no_shot, relax
 from peenflow.fe.shots import Shots
+from peenflow.testing import SAE1070
 
 R = 0.29e-3
 H = 50e-6
-SAE1070 = dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0134, m=0.0)
 MAT = Material(**SAE1070)
 
 

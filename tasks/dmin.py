@@ -1,4 +1,5 @@
-"""Stage ``dmin``: the smallest distance at which two impacts do not interact (paper §3.1, eq. 4).
+"""Stages ``strip_dmin`` and ``target_dmin`` (task ``dmin``): the smallest distance at which two
+impacts do not interact (paper §3.1, eq. 4).
 
 Two shots land at (+-d/2, 0) on a plate of the target material.  Their
 eq. (4) regions (top-surface von Mises residual >= 5 % of its maximum) are
