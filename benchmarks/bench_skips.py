@@ -96,7 +96,7 @@ def sequences(path, tol_mm, n_min=2):
     print("angle  v m/s |  N  n used  speed-up | I(all N) mm  I(n) mm  error mm  met")
     for angle in sat.angle_deg.values:
         for v in sat.velocity_m_s.values:
-            per = sat.sequence_intensity_mm.sel(angle_deg=angle, velocity_m_s=v).values
+            per = sat.sequence_intensity_m.sel(angle_deg=angle, velocity_m_s=v).values / 1e-3  # mm, as tol_mm
             N = per.size
             for n in range(1, N + 1):
                 verdict = sequences_verdict(per[:n], tol_mm, n_min, N)

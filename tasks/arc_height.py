@@ -14,7 +14,7 @@ import xarray as xr
 
 from peenflow.methods import DepthProfile, release_strip
 
-from ._common import MM, peening_task, var
+from ._common import peening_task, var
 from .params import StripParams
 
 
@@ -27,7 +27,7 @@ def arc_height(runs: xr.Dataset, *, strip: StripParams, angle_deg: float | None 
     combined runs are NaN where a sequence stopped before a rung, and so are
     its arc heights there.
 
-    Returns arc_height_mm, clamp_force_N, clamp_moment_Nm with dims (sequence, shots).
+    Returns arc_height_m, clamp_force_N, clamp_moment_Nm with dims (sequence, shots), SI.
     """
     z_edges = np.asarray(runs.z_edge_m.values)
     if z_edges.ndim > 1:  # combined along sequence: identical meshes
@@ -45,7 +45,7 @@ def arc_height(runs: xr.Dataset, *, strip: StripParams, angle_deg: float | None 
     dims = ("sequence", "shots")
     return xr.Dataset(
         {
-            "arc_height_mm": var(ah / MM, dims, "mm", "arc height over the gauge span (eq. 9)"),
+            "arc_height_m": var(ah, dims, "m", "arc height over the gauge span (eq. 9)"),
             "clamp_force_N": var(force, dims, "N", "F_x held by the fixture (eq. 6)"),
             "clamp_moment_Nm": var(moment, dims, "N m", "M_y about the strip mid-plane (eq. 7)"),
         },

@@ -14,7 +14,7 @@ import xarray as xr
 
 from peenflow.methods import fit_sequences
 
-from ._common import MM, peening_task, var
+from ._common import peening_task, var
 
 MODELS = {"paper": "eq10", "exponential_2p": "exp2", "exponential_3p": "exp3"}
 
@@ -22,13 +22,13 @@ MODELS = {"paper": "eq10", "exponential_2p": "exp2", "exponential_3p": "exp3"}
 @peening_task(version="1")
 def saturation(arc: xr.Dataset, *, fit: str = "paper", angle_deg: float | None = None,
                velocity_m_s: float | None = None) -> xr.Dataset:
-    """``arc``: arc_height_mm with dims (sequence, shots) for the point (angle_deg, velocity_m_s).
+    """``arc``: arc_height_m with dims (sequence, shots) for the point (angle_deg, velocity_m_s).
 
-    Returns intensities in mm."""
+    Returns intensities (arc heights) in m."""
     counts = arc.shots.values.astype(float)
-    ah_m = arc.arc_height_mm.transpose("sequence", "shots").values * MM
+    ah_m = arc.arc_height_m.transpose("sequence", "shots").values
     result = fit_sequences(counts, ah_m, MODELS[fit])
-    per_seq = np.array([f.intensity if f is not None else np.nan for f in result.fits]) / MM
+    per_seq = np.array([f.intensity if f is not None else np.nan for f in result.fits])
     n_sat = np.array([f.saturation_shots if f is not None else np.nan for f in result.fits])
     extrap = np.array([bool(f.extrapolated) if f is not None else True for f in result.fits])
     mean = result.mean_fit
@@ -36,20 +36,20 @@ def saturation(arc: xr.Dataset, *, fit: str = "paper", angle_deg: float | None =
     errors = [e or "" for e in result.errors]
     return xr.Dataset(
         {
-            "intensity_mm": var(mean.intensity / MM, (), "mm", "Almen intensity from the mean curve (eq. 11)"),
+            "intensity_m": var(mean.intensity, (), "m", "Almen intensity from the mean curve (eq. 11)"),
             "saturation_shots": var(mean.saturation_shots, (), "1", "saturation point T: N solving Ah(2N) = 1.1 Ah(N)"),
             "intensity_extrapolated": var(int(mean.extrapolated), (), "1",
                                           "1 if the saturation point lies outside the shot ladder",
                                           flag_values=np.array([0, 1]), flag_meanings="within_ladder extrapolated"),
-            "sequence_intensity_mm": var(per_seq, ("sequence",), "mm", "per-sequence intensity"),
+            "sequence_intensity_m": var(per_seq, ("sequence",), "m", "per-sequence intensity"),
             "sequence_saturation_shots": var(n_sat, ("sequence",), "1", "per-sequence saturation point T"),
             "sequence_extrapolated": var(extrap.astype(int), ("sequence",), "1",
                                          "1 if the sequence's saturation point lies outside the shot ladder",
                                          flag_values=np.array([0, 1]), flag_meanings="within_ladder extrapolated"),
-            "intensity_std_mm": var(result.intensity_std / MM, (), "mm", "spread over sequences (ddof=1)"),
-            "fit_arc_height_mm": var(mean.arc_height(n_fine) / MM, ("shots_fine",), "mm", "fitted mean curve"),
-            "mean_arc_height_mm": var(np.nanmean(ah_m, axis=0) / MM, ("shots",), "mm", "arc height, mean over sequences"),
-            "fit_residual_rms_mm": var(mean.residual_rms / MM, (), "mm", "RMS residual of the mean-curve fit"),
+            "intensity_std_m": var(result.intensity_std, (), "m", "spread over sequences (ddof=1)"),
+            "fit_arc_height_m": var(mean.arc_height(n_fine), ("shots_fine",), "m", "fitted mean curve"),
+            "mean_arc_height_m": var(np.nanmean(ah_m, axis=0), ("shots",), "m", "arc height, mean over sequences"),
+            "fit_residual_rms_m": var(mean.residual_rms, (), "m", "RMS residual of the mean-curve fit"),
         },
         coords={"sequence": var(arc.sequence.values, ("sequence",), "1", "random shot sequence number"),
                 "shots": var(counts, ("shots",), "1", "number of shots N"),

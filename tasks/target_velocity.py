@@ -70,7 +70,7 @@ def target_velocity(control: xr.Dataset | None = None, *, target: TargetParams) 
                           attrs={"method": "given"})
     curves = []
     for a in control.angle_deg.values:
-        ints = control.intensity_mm.sel(angle_deg=a).values * MM
+        ints = control.intensity_m.sel(angle_deg=a).values
         v = control.velocity_m_s.values.astype(float)
         ok = np.isfinite(ints)
         if ok.sum() < 2:
@@ -97,7 +97,7 @@ def target_velocity(control: xr.Dataset | None = None, *, target: TargetParams) 
         _check_saturated(control, used, bracket)
     return xr.Dataset(
         {"velocity_m_s": var(v, (), "m s-1", "shot velocity giving the target intensity on the control curve"),
-         "intensity_mm": var(wanted / MM, (), "mm", "target Almen intensity")},
+         "intensity_m": var(wanted, (), "m", "target Almen intensity")},
         attrs={"method": rule, "interpolation": interpolation,
                "control_angles_deg": ", ".join(f"{a:g}" for a in family.angles)},
     )

@@ -102,7 +102,7 @@ def test_a_micro_study_with_an_auto_ladder_saturates_every_point_inside_its_data
     runs = peenflow.open_result(study, "strip_runs")
     assert (runs.ladder_saturated.values == 1).all()
     T = runs.ladder_saturation_shots.values
-    arc = peenflow.open_result(study, "arc_height").arc_height_mm
+    arc = peenflow.open_result(study, "arc_height").arc_height_m
     reached = np.isfinite(arc.values)
     # each sequence's last rung is at >= 2T of its own fit, T not below its first rung
     last = (arc.shots.values * reached).max(axis=-1)

@@ -35,14 +35,14 @@ def test_ragged_ladders_combine_padded_and_give_the_exact_intensity():
     runs = combine_points([_run(long, edges, shape), _run(short, edges, shape)],
                           [{"sequence": 0}, {"sequence": 1}], ["sequence"])
     arc = arc_height(runs, strip=STRIP)
-    ah = arc.arc_height_mm.transpose("sequence", "shots").values
+    ah = arc.arc_height_m.transpose("sequence", "shots").values
     assert np.isnan(ah[1, 5:]).all() and np.isfinite(ah[1, :5]).all() and np.isfinite(ah[0]).all()
     unit = release(edges, shape, STRIP)[0]
-    np.testing.assert_allclose(ah[0] * 1e-3, _growth(long) * unit, rtol=1e-12)
+    np.testing.assert_allclose(ah[0], _growth(long) * unit, rtol=1e-12)
     sat = saturation(arc)
     T = D * eq10_saturation_x(P)
     assert float(sat.saturation_shots) == pytest.approx(T, rel=1e-5)
-    assert float(sat.intensity_mm) * 1e-3 == pytest.approx(_growth(T) * unit, rel=1e-5)
+    assert float(sat.intensity_m) == pytest.approx(_growth(T) * unit, rel=1e-5)
     assert int(sat.intensity_extrapolated) == 0
     # each sequence's own fit: both find T (noiseless), only the long ladder (to 640) brackets T = 380
     np.testing.assert_allclose(sat.sequence_saturation_shots.values, T, rtol=1e-4)

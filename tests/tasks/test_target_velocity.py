@@ -22,7 +22,7 @@ def _control(extrapolated, saturation_shots, largest=480.0):
     v = np.array([30.0, 40.0, 50.0])
     dims = ("angle_deg", "velocity_m_s")
     return xr.Dataset(
-        {"intensity_mm": (dims, [[0.2, 0.3, 0.4]]),
+        {"intensity_m": (dims, [[0.2e-3, 0.3e-3, 0.4e-3]]),
          "intensity_extrapolated": (dims, [extrapolated]),
          "saturation_shots": (dims, [saturation_shots]),
          "largest_shot_count": ((), largest)},
@@ -71,7 +71,8 @@ def test_linear_interpolation_is_what_the_velocity_is_read_from():
     with a kink the piecewise-linear inverse differs from PCHIP's."""
     v = np.array([30.0, 40.0, 50.0])
     dims = ("angle_deg", "velocity_m_s")
-    control = xr.Dataset({"intensity_mm": (dims, [[0.2, 0.3, 0.32]]), "intensity_extrapolated": (dims, [[0, 0, 0]]),
+    control = xr.Dataset({"intensity_m": (dims, [[0.2e-3, 0.3e-3, 0.32e-3]]),
+                          "intensity_extrapolated": (dims, [[0, 0, 0]]),
                           "saturation_shots": (dims, [[100, 200, 300]]), "largest_shot_count": ((), 480.0)},
                          coords={"angle_deg": [90.0], "velocity_m_s": v})
     linear = _read(control, 0.31, interpolation="linear")
