@@ -100,6 +100,7 @@ def main(argv=None) -> int:
     ra, rb = results(args.store_a), results(args.store_b)
     ok = True
     worst = 0.0
+    compared = 0
     for label in sorted(set(ra) | set(rb)):
         stage, point = label
         if label not in ra or label not in rb:
@@ -113,12 +114,14 @@ def main(argv=None) -> int:
                 print(f"    {name:40s} only in {'A' if name in va else 'B'}")
                 continue
             d = relative_difference(va[name], vb[name])
+            compared += 1
             if isinstance(d, str) or d > args.tolerance:
                 ok = False
             if not isinstance(d, str):
                 worst = max(worst, d)
             print(f"    {name:40s} {d if isinstance(d, str) else f'{d:.3g}'}")
-    print(f"results: {len(ra)} in A, {len(rb)} in B; largest relative difference {worst:.3g}; "
+    print(f"results: {len(ra)} in A, {len(rb)} in B; {compared} variables compared; "
+          f"largest relative difference {worst:.3g}; "
           f"{'AGREE' if ok else 'DIFFER'} (tolerance {args.tolerance:g})")
     return 0 if ok else 1
 

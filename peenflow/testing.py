@@ -114,5 +114,6 @@ def assert_results_equal(a, b, rtol: float = 0.0, names=None) -> None:
         if ok.any():
             scale = np.max(np.abs(x[ok]))
             diff = np.max(np.abs(x[ok] - y[ok]))
-            assert diff <= rtol * scale, f"{n}: largest difference {diff:.3g} is {diff / scale if scale else np.inf:.3g} " \
-                                         f"of its scale {scale:.3g} (rtol {rtol:g})"
+            relative = diff / scale if scale else np.inf
+            assert diff <= rtol * scale, (f"{n}: largest difference {diff:.3g} is {relative:.3g} of its scale "
+                                          f"{scale:.3g} (rtol {rtol:g})")

@@ -11,7 +11,7 @@ from ._common import SWEEP_COORDS, peening_task, var
 
 
 @peening_task(version="2")
-def control_curve(sat: xr.Dataset, *, interpolation: str = "pchip") -> xr.Dataset:
+def control_curve(sat: xr.Dataset, *, interpolation: str) -> xr.Dataset:
     """``sat``: saturation results combined over (angle_deg, velocity_m_s).
 
     Returns the intensity table and, for plotting, each angle's interpolant

@@ -80,8 +80,8 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
     tv = get("target_velocity")
     if tv is not None:
         if "intensity_m" in tv:
-            rows.append((f"velocity for {float(tv.intensity_m) / MM:g} mm intensity", f"{float(tv.velocity_m_s):.1f} m/s",
-                         f"read off the control curve ({tv.attrs.get('method', '')})"))
+            rows.append((f"velocity for {float(tv.intensity_m) / MM:g} mm intensity",
+                         f"{float(tv.velocity_m_s):.1f} m/s", f"read off the control curve ({tv.attrs.get('method', '')})"))
         else:
             rows.append(("shot velocity", f"{float(tv.velocity_m_s):.1f} m/s", "given in the study"))
     for stage, what in (("strip_dmin", "strip"), ("target_dmin", "target")):
@@ -109,7 +109,8 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
                      f"semi-axes along × across, {float(dent.dent_depth_m) * 1e6:.1f} um deep"))
     cov = get("coverage_curve")
     if cov is not None:
-        rows.append((f"N_f ({cov.attrs.get('full_coverage_percent', 98.0):g} % coverage)", f"{float(cov.full_coverage_shots):.0f} shots", "eq. (5) fit"))
+        rows.append((f"N_f ({cov.attrs['full_coverage_percent']:g} % coverage)",
+                     f"{float(cov.full_coverage_shots):.0f} shots", "eq. (5) fit"))
         rows.append((f"N_c ({cov.attrs.get('target_coverage_percent', 0):g} % coverage)",
                      f"{int(cov.coverage_shots_rounded)} shots", "shots of each target REV run"))
     prof = get("residual_profile")

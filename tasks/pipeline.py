@@ -12,9 +12,10 @@
     target_rev + target_velocity + coverage_curve -> target_runs[sequence] -> residual_profile
     after a run: plots of whatever is done (PNG) and report.html, in the store (report_dir)
 
-Each task receives only the parameters it uses, so editing one section of a
-study recomputes only the stages that depend on it, and two studies that
-share a section (the paper's §5 study extends its §4 study) share results.
+Each task receives only the parameters it uses -- typed, in SI, read once by
+:func:`tasks.params.study_params` -- so editing one section of a study
+recomputes only the stages that depend on it, and two studies that share a
+section (the paper's §5 study extends its §4 study) share results.
 """
 
 from __future__ import annotations

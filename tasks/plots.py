@@ -131,7 +131,7 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
         ax.plot(n, cov.coverage_mean_percent, "o", ms=3, label="Monte Carlo (mean)")
         ax.plot(n, cov.avrami_coverage_percent, "-", label=f"eq. (5), A = {float(cov.avrami_rate):.3g} per shot")
         ax.plot(n, cov.uniform_closed_form_percent, "--", label="closed form, uniform landings")
-        full = cov.attrs.get("full_coverage_percent", 98.0)
+        full = cov.attrs["full_coverage_percent"]
         ax.axhline(full, ls="-.", color="0.4", lw=0.8, label=f"{full:g} % (full coverage)")
         n_f, n_c = float(cov.full_coverage_shots), float(cov.coverage_shots)
         ax.axvline(n_f, ls=":", color="k", label=f"N_f = {n_f:.0f}")

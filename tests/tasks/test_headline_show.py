@@ -38,7 +38,8 @@ def test_a_run_ends_with_the_studys_headline_numbers(micro):
     assert _row(head, "peak sigma_xx") == f"{float(prof.stress_xx_mean_Pa[k]) / 1e6:.0f} MPa"
     assert _row(head, "shot velocity") == "45.0 m/s"  # micro gives the target velocity
     ctrl = peenflow.open_result(micro, "control_curve")
-    assert _row(head, "Almen intensity, 90 deg, 55 m/s") == f"{float(ctrl.intensity_m.sel(angle_deg=90.0, velocity_m_s=55.0)) / 1e-3:.3f} mm"
+    intensity_mm = float(ctrl.intensity_m.sel(angle_deg=90.0, velocity_m_s=55.0)) / 1e-3
+    assert _row(head, "Almen intensity, 90 deg, 55 m/s") == f"{intensity_mm:.3f} mm"
     dent = peenflow.open_result(micro, "target_indentation")
     assert f"{float(dent.dent_semi_axis_along_m) * 1e3:.3f}" in _row(head, "target dent")
 

@@ -39,7 +39,7 @@ def test_ragged_ladders_combine_padded_and_give_the_exact_intensity():
     assert np.isnan(ah[1, 5:]).all() and np.isfinite(ah[1, :5]).all() and np.isfinite(ah[0]).all()
     unit = release(edges, shape, STRIP)[0]
     np.testing.assert_allclose(ah[0], _growth(long) * unit, rtol=1e-12)
-    sat = saturation(arc)
+    sat = saturation(arc, fit="paper")
     T = D * eq10_saturation_x(P)
     assert float(sat.saturation_shots) == pytest.approx(T, rel=1e-5)
     assert float(sat.intensity_m) == pytest.approx(_growth(T) * unit, rel=1e-5)
