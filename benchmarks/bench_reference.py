@@ -3,8 +3,12 @@ changing (prints its figures; not a test).
 
 Usage (from the repository root)::
 
-    PYTHONPATH=. python benchmarks/bench_reference.py run POINT H_UM [H_UM ...]
+    PYTHONPATH=. python benchmarks/bench_reference.py run POINT LEVEL [LEVEL ...]
     PYTHONPATH=. python benchmarks/bench_reference.py table [POINT]
+
+A LEVEL is an element size in um (``25``), or an element size and a REV side in mm
+(``60@2.4``: the same point on a larger periodic REV, measured over its whole face:
+the REV-size convergence of issue 10 §3).
 
 POINT is a study file stem under ``benchmarks/reference/studies/`` (``strip_90_55``,
 ``strip_67_35``).  ``run`` writes a copy of the study with ``[fidelity]
@@ -48,16 +52,28 @@ OUT = ROOT / "benchmarks" / "reference" / "study_level.json"
 PROFILE_DEPTH_M = 0.5e-3
 
 
-def _level_study(point: str, h_um: float) -> Path:
+def _parse_level(text: str) -> tuple[float, float | None]:
+    h, _, side = text.partition("@")
+    return float(h), (float(side) if side else None)
+
+
+def _level_name(h_um: float, side_mm: float | None) -> str:
+    return f"{h_um:g}" if side_mm is None else f"{h_um:g}@{side_mm:g}"
+
+
+def _level_study(point: str, h_um: float, side_mm: float | None = None) -> Path:
     text = (STUDIES / f"{point}.toml").read_text()
     lines = []
     for ln in text.splitlines():
-        if ln.split("#")[0].strip().startswith("element_size_um"):
+        key = ln.split("#")[0].strip()
+        if key.startswith("element_size_um"):
             ln = f"element_size_um = {h_um!r}"
+        elif side_mm is not None and key.startswith(("rev_size_mm", "measure_size_mm")):
+            ln = f"{key.split('=')[0].strip()} = {side_mm!r}"
         lines.append(ln)
     d = STORE / point
     d.mkdir(parents=True, exist_ok=True)
-    path = d / f"h{h_um:g}.toml"
+    path = d / f"h{_level_name(h_um, side_mm)}.toml"
     new = "\n".join(lines) + "\n"
     if not path.exists() or path.read_text() != new:
         path.write_text(new)
@@ -105,23 +121,24 @@ def _collect(study: Path) -> dict:
             profiles[str(n)] = {**profile_metrics(depth[order], prof),
                                 "z_mm": (depth[order] * 1e3).round(6).tolist(),
                                 "sxx_MPa": (prof / 1e6).round(4).tolist()}
-    fp = runs.attrs.get("peenflow_code") or runs.attrs.get("peenflow_source_hash", "")
+    fp = runs.attrs.get("peenflow_source_hash") or runs.attrs.get("peenflow_code", "")  # covers the kernel
+    mm = 1e3  # the store is SI; this file's figures are in mm
     return {
-        "intensity_mm": float(sq(sat.intensity_mm)),
+        "intensity_mm": float(sq(sat.intensity_m)) * mm,
         "intensity_extrapolated": int(sq(sat.intensity_extrapolated)),
         "saturation_shots": float(sq(sat.saturation_shots)),
-        "sequence_intensity_mm": np.atleast_1d(sq(sat.sequence_intensity_mm)).tolist(),
-        "arc_height_mm": {str(n): np.atleast_1d(sq(arc.arc_height_mm.sel(shots=n))).tolist()
+        "sequence_intensity_mm": (np.atleast_1d(sq(sat.sequence_intensity_m)) * mm).tolist(),
+        "arc_height_mm": {str(n): (np.atleast_1d(sq(arc.arc_height_m.sel(shots=n))) * mm).tolist()
                           for n in np.asarray(arc.shots).tolist()},
         "profiles": profiles,
         "code": str(fp),
     }
 
 
-def run(point: str, levels: list[float]) -> None:
-    data = json.loads(OUT.read_text()) if OUT.exists() else {}
-    for h in levels:
-        study = _level_study(point, h)
+def run(point: str, levels: list[str]) -> None:
+    for level in levels:
+        h, side = _parse_level(level)
+        study = _level_study(point, h, side)
         t0, c0 = time.time(), resource.getrusage(resource.RUSAGE_CHILDREN)
         cmd = [sys.executable, "-m", "peenflow.cli", "run", str(study), "--until", "saturation",
                "--workers", "1", "--threads", "1", "--quiet"]
@@ -130,23 +147,34 @@ def run(point: str, levels: list[float]) -> None:
         c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
         print(proc.stdout[-3000:], proc.stderr[-3000:], flush=True)
         if proc.returncode != 0:
-            print(f"level {h:g} um did not finish (rc {proc.returncode}); run again to resume")
+            print(f"level {level} did not finish (rc {proc.returncode}); run again to resume")
             return
         entry = _collect(study)
-        key = f"{point}/{h:g}"
-        prev = data.get(key, {})
+        key = f"{point}/{_level_name(h, side)}"
+        prev = (json.loads(OUT.read_text()) if OUT.exists() else {}).get(key, {})
         # CPU of this call; a resumed level keeps the sum of its calls
         cpu = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)
         entry["cpu_s"] = prev.get("cpu_s", 0.0) + cpu if prev.get("code") == entry["code"] else cpu
         entry["wall_s"] = time.time() - t0
-        entry["command"] = f"PYTHONPATH=. python benchmarks/bench_reference.py run {point} {h:g}"
+        entry["command"] = f"PYTHONPATH=. python benchmarks/bench_reference.py run {point} {level}"
+        entry["rev_side_mm"] = side if side is not None else _template_side(point)
         entry["date"] = time.strftime("%Y-%m-%d")
         entry["commit"] = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                                          capture_output=True, text=True).stdout.strip()
+        data = json.loads(OUT.read_text()) if OUT.exists() else {}  # another level may have finished meanwhile
         data[key] = entry
-        OUT.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+        tmp = OUT.with_suffix(".tmp")
+        tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+        tmp.replace(OUT)
         print(f"{key}: intensity {entry['intensity_mm']:.4f} mm, T {entry['saturation_shots']:.0f}, "
               f"CPU {entry['cpu_s']:.0f} s")
+
+
+def _template_side(point: str) -> float:
+    for ln in (STUDIES / f"{point}.toml").read_text().splitlines():
+        if ln.split("#")[0].strip().startswith("rev_size_mm"):
+            return float(ln.split("=")[1].split("#")[0])
+    return float("nan")
 
 
 def richardson(hs, fs, p_range=(0.5, 4.0)):
@@ -171,8 +199,10 @@ def table(only: str | None = None) -> None:
     data = json.loads(OUT.read_text()) if OUT.exists() else {}
     points = sorted({k.split("/")[0] for k in data if only in (None, k.split("/")[0])})
     for point in points:
-        levels = sorted(((float(k.split("/")[1]), v) for k, v in data.items() if k.startswith(point + "/")),
-                        reverse=True)
+        # mesh levels on the study's own REV; larger-REV levels (h@side) in a table of their own
+        levels = sorted(((float(k.split("/")[1]), v) for k, v in data.items()
+                         if k.startswith(point + "/") and "@" not in k), reverse=True)
+        sides = sorted((k.split("/")[1], v) for k, v in data.items() if k.startswith(point + "/") and "@" in k)
         common = set.intersection(*(set(v["profiles"]) for _, v in levels))
         rung = str(max(int(n) for n in common)) if common else None
         print(f"\n#### {point} (profile at N = {rung})")
@@ -186,6 +216,14 @@ def table(only: str | None = None) -> None:
                   + f" | {v['saturation_shots']:.0f} | {pm.get('surface_MPa', float('nan')):.0f} | "
                   f"{pm.get('peak_MPa', float('nan')):.0f} | {pm.get('peak_depth_mm', float('nan')):.3f} | "
                   f"{pm.get('zero_depth_mm', float('nan')):.3f} | {v['cpu_s']:.0f} | {v['code'][:12]} |")
+        if sides:
+            print(f"\nREV side (periodic, whole face measured) at fixed element size; profile at N = T of each:")
+            print("| level | side mm | intensity mm | per sequence | T shots | CPU s |")
+            print("|---|---|---|---|---|---|")
+            for name, v in [(f"{h:g}", v) for h, v in levels] + sides:
+                print(f"| {name} | {v.get('rev_side_mm', float('nan')):g} | {v['intensity_mm']:.4f} | "
+                      + ", ".join(f"{x:.4f}" for x in v["sequence_intensity_mm"])
+                      + f" | {v['saturation_shots']:.0f} | {v['cpu_s']:.0f} |")
         if len(levels) >= 3:
             hs = [h for h, _ in levels[-3:]]
             quantities = [("intensity_mm", lambda v: v["intensity_mm"])]
@@ -207,7 +245,7 @@ def table(only: str | None = None) -> None:
 if __name__ == "__main__":
     os.chdir(ROOT)
     if len(sys.argv) >= 4 and sys.argv[1] == "run":
-        run(sys.argv[2], [float(x) for x in sys.argv[3:]])
+        run(sys.argv[2], sys.argv[3:])
     elif len(sys.argv) >= 2 and sys.argv[1] == "table":
         table(sys.argv[2] if len(sys.argv) > 2 else None)
     else:

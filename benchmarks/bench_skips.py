@@ -38,14 +38,8 @@ from peenflow.methods import fit_sequences, sequences_verdict
 from peenflow.study import load_study
 from tasks._rev_run import run_rev
 from tasks.arc_height import release
-from tasks.pipeline import fidelity_params, material_params
+from tasks.params import LadderParams, study_params
 from tasks.saturation import MODELS
-
-
-def _strip(study):
-    st = study.almen.strip
-    return {"strip_width_m": st.width_m, "strip_thickness_m": st.thickness_m,
-            "youngs_modulus_Pa": st.material.youngs_modulus_Pa, "gauge_span_m": st.gauge_span_m}
 
 
 def _intensity(runs, strip, model):
@@ -70,10 +64,10 @@ def ladder(path, first=10, cap=5120):
         raise SystemExit(f"{path}: almen.shot_counts is already \"auto\"; give a study with a fixed ladder to compare")
     rev = peenflow.open_result(path, "strip_rev")  # the REV the study uses (run the study to strip_rev first)
     side, measure = float(rev.rev_side_m), float(rev.measure_side_m)
-    shot = {"radius_m": s.shot.radius_m, "density_kg_m3": s.shot.density_kg_m3, "friction": s.shot.friction_coefficient}
-    strip, model = _strip(s), MODELS[a.saturation_fit]
-    extend = {"first_shots": first, "max_shots": cap, "fit": a.saturation_fit, "strip": strip}
-    common = dict(material=material_params(a.strip.material), shot=shot, fidelity=fidelity_params(s.fidelity),
+    p = study_params(s)
+    strip, model = p.strip, MODELS[a.saturation_fit]
+    extend = LadderParams(first, cap, a.saturation_fit, strip)
+    common = dict(material=p.strip_material, shot=p.shot, fidelity=p.fidelity,
                   side_m=side, measure_side_m=measure, thickness_m=a.strip.thickness_m)
     print(f"{path}: REV {side * 1e3:.3g} mm, ladder {list(a.shot_counts)} vs auto {first}..{cap}, "
           f"{a.sequences} sequences, fit {a.saturation_fit}")
@@ -102,7 +96,7 @@ def sequences(path, tol_mm, n_min=2):
     print("angle  v m/s |  N  n used  speed-up | I(all N) mm  I(n) mm  error mm  met")
     for angle in sat.angle_deg.values:
         for v in sat.velocity_m_s.values:
-            per = sat.sequence_intensity_mm.sel(angle_deg=angle, velocity_m_s=v).values
+            per = sat.sequence_intensity_m.sel(angle_deg=angle, velocity_m_s=v).values / 1e-3  # mm, as tol_mm
             N = per.size
             for n in range(1, N + 1):
                 verdict = sequences_verdict(per[:n], tol_mm, n_min, N)

@@ -65,11 +65,11 @@ def dense(n_full: int = 59) -> None:
     from peenflow.fe.safety import KernelInstabilityError as KIE
     from peenflow.study import load_study
     from tasks._rev_run import run_rev
-    from tasks.pipeline import fidelity_params, material_params
+    from tasks.params import study_params
 
     s = load_study(Path(__file__).resolve().parents[1] / "tests" / "tasks" / "micro.toml")
-    shot = {"radius_m": s.shot.radius_m, "density_kg_m3": s.shot.density_kg_m3, "friction": 0.2}
-    fid, mat = fidelity_params(s.fidelity), material_params(s.target.material)
+    p = study_params(s)
+    shot, fid, mat = p.shot, p.fidelity, p.target_material
     print(f"# dense sequences on the micro target REV, N_f = {n_full}; loadavg {loadavg()}")
     print("| coverage % | shots | seed | outcome | largest energy error | mean | largest hourglass peak | wall s |")
     print("|---|---|---|---|---|---|---|---|")

@@ -2,7 +2,7 @@
 
     >>> import peenflow
     >>> ds = peenflow.open_result("studies/quickstart.toml", "saturation")
-    >>> ds.intensity_mm.sel(angle_deg=90).plot()
+    >>> ds.intensity_m.sel(angle_deg=90).plot()
 
 Results are plain xarray Datasets; the store can also be read with
 ``xr.open_dataset`` directly (``peenflow show`` prints the file paths).

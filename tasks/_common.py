@@ -1,4 +1,7 @@
-"""Shared by the stage modules: the task decorator they use and unit helpers.
+"""Shared by the stage modules: the task decorator they use and the CF helpers of their results.
+
+Results are SI; ``MM`` and ``MPA`` are for the edges that show mm and MPa
+(headline, plots, messages).
 
 Every stage declares that its results depend on the kernel and on the
 paper's maths (``uses``), so an edit in ``peenflow.fe`` or

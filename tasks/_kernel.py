@@ -1,70 +1,23 @@
-"""Translation between study parameters (plain dicts, SI) and the FE/DEM kernel.
+"""Kernel helpers the stages share: meshes, stop messages in study keys, fields, checkpoints.
 
-Tasks receive canonical parameter dicts (so that keys are stable and only
-what a task uses enters its key) and build kernel objects here:
-
-* ``material``: {"E_Pa", "nu", "density_kg_m3", "A_Pa", "B_Pa", "n", "C", "m",
-  "reference_strain_rate_1_s", "room_temperature_K", "melt_temperature_K"}
-* ``shot``: {"radius_m", "density_kg_m3", "friction"}
-* ``fidelity``: {"element_size_m", "fine_depth_m", "grading_ratio",
-  "time_step_safety", "window_contact_radii", "settle_tolerance",
-  "relaxation_tolerance", "lateral_boundary"}
-
-Also: meshes for single impacts, two-shot plates and REVs; the kernel state
-as an xarray Dataset for checkpoints; surface fields mirrored from
-quarter/half models.
+The parameters themselves and their conversion to the kernel's objects
+(``Material``, ``Options``, ``Target``, ``Shots``) are in :mod:`tasks.params`;
+here: the meshes of single impacts, two-shot plates and REVs (from
+:class:`tasks.params.FidelityParams`), :func:`run_impacts` with stop messages
+naming study keys, surface fields mirrored from quarter/half models, and the
+kernel state as an xarray Dataset for checkpoints.
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import xarray as xr
 
 from peenflow.fe import impact as _impact
-from peenflow.fe.impact import Options
 from peenflow.fe.safety import KernelInstabilityError
-from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import BoxMesh, graded_axis
-from peenflow.fe.model import Target
-from peenflow.fe.shots import Shots
-from peenflow.methods import impingement_direction
 
-VOIGT = ("xx", "yy", "zz", "yz", "xz", "xy")
-
-def kernel_material(p: dict) -> Material:
-    return Material(
-        E=p["E_Pa"], nu=p["nu"], density=p["density_kg_m3"], A=p["A_Pa"], B=p["B_Pa"], n=p["n"], C=p["C"],
-        m=p["m"], ref_strain_rate=p["reference_strain_rate_1_s"],
-        T_room=p.get("room_temperature_K") or 293.0, T_melt=p.get("melt_temperature_K") or 1793.0,
-    )
-
-
-def kernel_options(f: dict, shot: dict, threads: int = 1, record: bool = False, record_every: int = 1) -> Options:
-    """Kernel options from the study's fidelity.
-
-    The window is sized in the kernel's estimated contact radius, so one
-    setting suits steel strips and soft targets alike.  Settling and
-    relaxation end when the kinetic energy falls below the tolerance times
-    the impact energy and every nodal speed below ``0.1 sqrt(tolerance)``
-    times the shot speed (the kernel's two rest criteria; the standard
-    preset gives the kernel's defaults).  The window's minimum size (in
-    elements and in wave travel) is the kernel's own
-    (``Options.window_min_elements``, ``window_min_wave``).
-    """
-    window = f["window_contact_radii"]
-    return Options(
-        dt_safety=f["time_step_safety"], friction=shot["friction"], window=window > 0,
-        window_lateral=window if window > 0 else 4.0, window_depth=window if window > 0 else 4.0,
-        rest_ke_fraction=f["settle_tolerance"], rest_v_fraction=0.1 * math.sqrt(f["settle_tolerance"]),
-        relax_ke_fraction=f["relaxation_tolerance"], relax_v_fraction=0.1 * math.sqrt(f["relaxation_tolerance"]),
-        threads=threads, record=record, record_every=record_every,
-        # a preset's window is its measured choice: the result records when it
-        # lies outside the kernel's validated envelope instead of a warning per call
-        window_warning=False,
-    )
-
+from .params import FidelityParams
 
 # Kernel option names in a kernel stop message -> what a study user changes instead. The kernel
 # knows nothing of study files; tasks translate. Order matters: longer phrases first.
@@ -104,22 +57,18 @@ def run_impacts(*args, **kwargs):
         raise KernelInstabilityError(study_terms(str(exc)), exc.status, exc.shot_index, exc.time) from None
 
 
-def shot_mass(shot: dict) -> float:
-    return shot["density_kg_m3"] * 4.0 / 3.0 * math.pi * shot["radius_m"] ** 3
-
-
 # -- meshes ----------------------------------------------------------------------
-def _z_axis(f: dict, thickness: float) -> np.ndarray:
-    return graded_axis(f["fine_depth_m"], f["element_size_m"], thickness, f["grading_ratio"])
+def _z_axis(f: FidelityParams, thickness: float) -> np.ndarray:
+    return graded_axis(f.fine_depth_m, f.element_size_m, thickness, f.grading_ratio)
 
 
-def _lateral(f: dict, fine_half: float, half: float, lower: bool) -> np.ndarray:
+def _lateral(f: FidelityParams, fine_half: float, half: float, lower: bool) -> np.ndarray:
     """Axis on [0, half] (lower=False) or [-half, half]: fine within ``fine_half`` of 0."""
-    right = graded_axis(fine_half, f["element_size_m"], half, f["grading_ratio"])
+    right = graded_axis(fine_half, f.element_size_m, half, f.grading_ratio)
     return np.concatenate([-right[::-1], right[1:]]) if lower else right
 
 
-def impact_block(f: dict, half_width: float, thickness: float, fine_half: float,
+def impact_block(f: FidelityParams, half_width: float, thickness: float, fine_half: float,
                  symmetric_x: bool, symmetric_y: bool) -> BoxMesh:
     """Block around an impact at the origin; ``symmetric_*`` keeps only the >= 0 half
     (the plane through the impact is then a symmetry face)."""
@@ -128,46 +77,23 @@ def impact_block(f: dict, half_width: float, thickness: float, fine_half: float,
     return BoxMesh(x, y, _z_axis(f, thickness))
 
 
-def rev_mesh(f: dict, side: float, thickness: float) -> BoxMesh:
+def rev_mesh(f: FidelityParams, side: float, thickness: float) -> BoxMesh:
     """REV block ``[-side/2, side/2]^2 x [0, thickness]``, uniformly fine laterally.
 
     Shots land anywhere on the peening surface, so the fine zone covers it all;
     lateral node lines fall on the measuring-region edges when the sizes allow.
     """
-    n = max(2, int(round(side / f["element_size_m"])))
+    n = max(2, int(round(side / f.element_size_m)))
     axis = np.linspace(-0.5 * side, 0.5 * side, n + 1)
     return BoxMesh(axis, axis.copy(), _z_axis(f, thickness))
 
 
-def target(mesh: BoxMesh, f: dict, impact_block: bool = False) -> Target:
-    """Fixed bottom; lateral faces from ``fidelity.lateral_boundary`` for a REV.
-
-    An impact block (single impact, two shots: :func:`impact_block`) is a
-    quarter / half model whose faces through the impact are symmetry planes,
-    so its lateral faces stay symmetric whatever the key says ("periodic"
-    needs the REV's uniform lateral spacing, and would tie a symmetry plane
-    to the far face)."""
-    lateral = "symmetric" if impact_block else f.get("lateral_boundary", "symmetric")
-    return Target(mesh, lateral=lateral, bottom="fixed")
-
-
-# -- shots ---------------------------------------------------------------------------
-def aimed_shot(shot: dict, speed: float, angle_deg: float, landing_xy=(0.0, 0.0), gap: float | None = None) -> tuple:
-    """(centre (3,), velocity (3,)) of a shot that first touches z = 0 at ``landing_xy``."""
-    u = impingement_direction(angle_deg)
-    r = shot["radius_m"]
-    gap = 0.02 * r if gap is None else gap
-    s = gap / u[2]
-    centre = np.array([landing_xy[0], landing_xy[1], -r]) - s * u
-    return centre, speed * u
-
-
-def make_shots(shot: dict, centres, velocities) -> Shots:
-    return Shots(np.asarray(centres, float).reshape(-1, 3), np.asarray(velocities, float).reshape(-1, 3),
-                 shot["radius_m"], shot["density_kg_m3"])
-
-
 # -- fields on the structured mesh ----------------------------------------------------------
+def cell_centres(mesh: BoxMesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(x, y, z) element-centre coordinates (m) along each axis of a structured mesh."""
+    return tuple(0.5 * (a[1:] + a[:-1]) for a in (mesh.x, mesh.y, mesh.z))
+
+
 def grid_fields(mesh: BoxMesh, stress: np.ndarray, eps_p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(stress (nz, ny, nx, 6), eps_p (nz, ny, nx)) from element arrays (numbering i + nx (j + ny k))."""
     nx, ny, nz = mesh.shape_elements

@@ -23,40 +23,41 @@ import time
 import numpy as np
 import xarray as xr
 
-from peenflow.methods import average_over_region, doubling_ladder, ladder_verdict, shot_stream
+from peenflow.methods import VOIGT, average_over_region, doubling_ladder, ladder_verdict, shot_stream
 
 from . import _kernel as K
 from ._common import COMPONENT_LONG_NAME, depth, labels, var
 from .arc_height import release
+from .params import FidelityParams, LadderParams, MaterialParams, ShotParams
 from .saturation import MODELS
 
 CHECKPOINT_EVERY_S = float(os.environ.get("PEENFLOW_CHECKPOINT_EVERY_S", "30"))
 
 
-def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, measure_side_m: float,
-            thickness_m: float, angle_deg: float, velocity_m_s: float, seed: int, ladder: list,
-            extend: dict | None = None) -> xr.Dataset:
+def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: FidelityParams, side_m: float,
+            measure_side_m: float, thickness_m: float, angle_deg: float, velocity_m_s: float, seed: int,
+            ladder: list, extend: LadderParams | None = None) -> xr.Dataset:
     """The run (module docstring); ``ladder``: the rungs, or with ``extend`` ignored.
 
     ``extend`` (a strip ladder that extends itself, ``almen.shot_counts = "auto"``):
-    {"first_shots", "max_shots", "fit" (``almen.saturation_fit``), "strip" (the
-    ``arc_height`` stage's strip parameters)}.  The rungs are then the doubling
+    its first and largest shot counts, the saturation fit (``almen.saturation_fit``)
+    and the strip the arc heights are computed for.  The rungs are then the doubling
     ladder first ... max_shots (the shot stream drawn for max_shots), and the
     run stops after the first rung at which :func:`ladder_verdict` on its own
     arc heights says stop.  The result then holds only the rungs run, and
     ``ladder_saturated`` / ``ladder_saturation_shots`` say how it ended.
     """
-    ladder = list(doubling_ladder(extend["first_shots"], extend["max_shots"])) if extend else \
+    ladder = list(doubling_ladder(extend.first_shots, extend.max_shots)) if extend else \
         sorted(int(n) for n in ladder)
     mesh = K.rev_mesh(fidelity, side_m, thickness_m)
     centroids = mesh.element_centroids()
     z_edges = mesh.z
     half = 0.5 * side_m
     region = (-0.5 * measure_side_m, 0.5 * measure_side_m, -0.5 * measure_side_m, 0.5 * measure_side_m)
-    stream = shot_stream(ladder[-1], shot["radius_m"], half, half, angle_deg, velocity_m_s, seed)
-    target = K.target(mesh, fidelity)
-    material_k = K.kernel_material(material)
-    options = K.kernel_options(fidelity, shot, ctx.threads if ctx else 1)
+    stream = shot_stream(ladder[-1], shot.radius_m, half, half, angle_deg, velocity_m_s, seed)
+    target = fidelity.boundary(mesh)
+    material_k = material.to_kernel()
+    options = fidelity.options(shot, ctx.threads if ctx else 1)
     nz = len(z_edges) - 1
 
     means: dict[int, np.ndarray] = {}
@@ -105,7 +106,7 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
             if extend and (verdict := _verdict(means, run, z_edges, extend)).stop:
                 break
             continue
-        shots = K.make_shots(shot, stream.centres[:n], stream.velocities[:n])
+        shots = shot.shots(stream.centres[:n], stream.velocities[:n])
         res = K.run_impacts(target, material_k, shots, options, state=state, on_shot_done=on_shot_done)
         avg = average_over_region(centroids, res.stress, z_edges, region)
         pavg = average_over_region(centroids, np.repeat(res.eps_p[:, None], 6, axis=1), z_edges, region)
@@ -160,7 +161,7 @@ def run_rev(ctx, *, material: dict, shot: dict, fidelity: dict, side_m: float, m
             "hit_fraction": var(float(hit.mean()) if hit.size else 0.0, (), "1", "fraction of shots that touched the REV"),
         },
         coords={"shots": var(np.array(run), ("shots",), "1", "number of shots N (rung of the ladder)"),
-                "component": labels(K.VOIGT, "component", COMPONENT_LONG_NAME),
+                "component": labels(VOIGT, "component", COMPONENT_LONG_NAME),
                 "z_edge_m": depth(z_edges, "z_edge", "layer boundary depth below the peened surface"),
                 "depth_m": depth(0.5 * (z_edges[1:] + z_edges[:-1]), "layer", "layer mid-depth below the peened surface"),
                 "impact": var(np.arange(records["restitution"].size), ("impact",), "1", "impact number in arrival order")},
@@ -188,8 +189,8 @@ def _unusable(ck: xr.Dataset, mesh, nz: int, last: int) -> str:
     return ""
 
 
-def _verdict(means: dict, rungs: list, z_edges, extend: dict):
+def _verdict(means: dict, rungs: list, z_edges, extend: LadderParams):
     """The stop rule on the rungs run so far: their arc heights (eqs. 6-9, as the
     ``arc_height`` stage computes them) and a saturation fit (``almen.saturation_fit``)."""
-    ah = [release(z_edges, means[n][:, 0], extend["strip"])[0] for n in rungs]
-    return ladder_verdict(rungs, ah, MODELS[extend["fit"]])
+    ah = [release(z_edges, means[n][:, 0], extend.strip)[0] for n in rungs]
+    return ladder_verdict(rungs, ah, MODELS[extend.fit])

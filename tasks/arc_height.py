@@ -14,12 +14,12 @@ import xarray as xr
 
 from peenflow.methods import DepthProfile, release_strip
 
-from ._common import MM, peening_task, var
+from ._common import peening_task, var
+from .params import StripParams
 
 
 @peening_task(version="1")
-def arc_height(runs: xr.Dataset, *, strip_width_m: float, strip_thickness_m: float,
-               youngs_modulus_Pa: float, gauge_span_m: float, angle_deg: float | None = None,
+def arc_height(runs: xr.Dataset, *, strip: StripParams, angle_deg: float | None = None,
                velocity_m_s: float | None = None) -> xr.Dataset:
     """``runs``: strip REV profiles, dims (sequence, shots, layer), ``stress_xx_Pa`` and ``z_edge_m``.
 
@@ -27,7 +27,7 @@ def arc_height(runs: xr.Dataset, *, strip_width_m: float, strip_thickness_m: flo
     combined runs are NaN where a sequence stopped before a rung, and so are
     its arc heights there.
 
-    Returns arc_height_mm, clamp_force_N, clamp_moment_Nm with dims (sequence, shots).
+    Returns arc_height_m, clamp_force_N, clamp_moment_Nm with dims (sequence, shots), SI.
     """
     z_edges = np.asarray(runs.z_edge_m.values)
     if z_edges.ndim > 1:  # combined along sequence: identical meshes
@@ -37,8 +37,6 @@ def arc_height(runs: xr.Dataset, *, strip_width_m: float, strip_thickness_m: flo
     ah = np.full((n_seq, n_shots), np.nan)
     force = np.full_like(ah, np.nan)
     moment = np.full_like(ah, np.nan)
-    strip = {"strip_width_m": strip_width_m, "strip_thickness_m": strip_thickness_m,
-             "youngs_modulus_Pa": youngs_modulus_Pa, "gauge_span_m": gauge_span_m}
     for s in range(n_seq):
         for k in range(n_shots):
             if not np.all(np.isfinite(sxx[s, k])):  # a rung this sequence's ladder did not reach
@@ -47,24 +45,22 @@ def arc_height(runs: xr.Dataset, *, strip_width_m: float, strip_thickness_m: flo
     dims = ("sequence", "shots")
     return xr.Dataset(
         {
-            "arc_height_mm": var(ah / MM, dims, "mm", "arc height over the gauge span (eq. 9)"),
+            "arc_height_m": var(ah, dims, "m", "arc height over the gauge span (eq. 9)"),
             "clamp_force_N": var(force, dims, "N", "F_x held by the fixture (eq. 6)"),
             "clamp_moment_Nm": var(moment, dims, "N m", "M_y about the strip mid-plane (eq. 7)"),
         },
         coords={"sequence": var(runs.sequence.values, ("sequence",), "1", "random shot sequence number"),
                 "shots": var(runs.shots.values, ("shots",), "1", "number of shots N")},
-        attrs={"strip_thickness_m": strip_thickness_m, "gauge_span_m": gauge_span_m},
+        attrs={"strip_thickness_m": strip.thickness_m, "gauge_span_m": strip.gauge_span_m},
     )
 
 
-def release(z_edges, sxx, strip: dict) -> tuple[float, float, float]:
+def release(z_edges, sxx, strip: StripParams) -> tuple[float, float, float]:
     """(arc height m, clamp force N, clamp moment N m) of one σx profile (Pa on layers ``z_edges``, m).
 
-    ``strip``: this stage's parameters ``strip_width_m``, ``strip_thickness_m``,
-    ``youngs_modulus_Pa``, ``gauge_span_m``.  Shared with the strip runs that
-    extend their own ladder, so both compute the same arc height.
+    Shared with the strip runs that extend their own ladder, so both compute
+    the same arc height.
     """
     profile = DepthProfile(np.asarray(z_edges), np.asarray(sxx), "layers")
-    rel = release_strip(profile, strip["strip_width_m"], strip["strip_thickness_m"], strip["youngs_modulus_Pa"],
-                        strip["gauge_span_m"])
+    rel = release_strip(profile, strip.width_m, strip.thickness_m, strip.youngs_modulus_Pa, strip.gauge_span_m)
     return rel.arc_height, rel.force, rel.moment

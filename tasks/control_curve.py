@@ -7,36 +7,36 @@ import xarray as xr
 
 from peenflow.methods import ControlCurve
 
-from ._common import MM, SWEEP_COORDS, peening_task, var
+from ._common import SWEEP_COORDS, peening_task, var
 
 
 @peening_task(version="2")
-def control_curve(sat: xr.Dataset, *, interpolation: str = "pchip") -> xr.Dataset:
+def control_curve(sat: xr.Dataset, *, interpolation: str) -> xr.Dataset:
     """``sat``: saturation results combined over (angle_deg, velocity_m_s).
 
     Returns the intensity table and, for plotting, each angle's interpolant
     (``interpolation``: "pchip" or "linear", the one ``target_velocity``
     inverts) sampled on a fine velocity grid.
     """
-    table = sat.intensity_mm.transpose("angle_deg", "velocity_m_s")
+    table = sat.intensity_m.transpose("angle_deg", "velocity_m_s")
     v = sat.velocity_m_s.values.astype(float)
     fine = np.linspace(v.min(), v.max(), 61) if v.size > 1 else v.copy()
     curves = np.full((table.shape[0], fine.size), np.nan)
     increasing = np.zeros(table.shape[0], dtype=int)
     for i in range(table.shape[0]):
-        ints = table.values[i] * MM
+        ints = table.values[i]
         ok = np.isfinite(ints)
         if ok.sum() >= 2:
             curve = ControlCurve(float(table.angle_deg.values[i]), v[ok], ints[ok], interpolation)
             inside = (fine >= v[ok][0]) & (fine <= v[ok][-1])
-            curves[i, inside] = curve.intensity(fine[inside]) / MM
+            curves[i, inside] = curve.intensity(fine[inside])
             increasing[i] = int(curve.is_increasing)
     return xr.Dataset(
         {
-            "intensity_mm": var(table.values, ("angle_deg", "velocity_m_s"), "mm", "Almen intensity"),
-            "intensity_std_mm": var(sat.intensity_std_mm.transpose("angle_deg", "velocity_m_s").values,
-                                    ("angle_deg", "velocity_m_s"), "mm", "spread over sequences"),
-            "curve_intensity_mm": var(curves, ("angle_deg", "velocity_fine_m_s"), "mm",
+            "intensity_m": var(table.values, ("angle_deg", "velocity_m_s"), "m", "Almen intensity"),
+            "intensity_std_m": var(sat.intensity_std_m.transpose("angle_deg", "velocity_m_s").values,
+                                   ("angle_deg", "velocity_m_s"), "m", "spread over sequences"),
+            "curve_intensity_m": var(curves, ("angle_deg", "velocity_fine_m_s"), "m",
                                       f"{interpolation} interpolant of the control curve"),
             "monotone_increasing": var(increasing, ("angle_deg",), "1", "1 if intensity rises with velocity",
                                        flag_values=np.array([0, 1]), flag_meanings="not_increasing increasing"),

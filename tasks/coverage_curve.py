@@ -22,6 +22,7 @@ from peenflow.methods import (DentEllipse, expected_coverage_uniform, fit_avrami
 from peenflow.methods.coverage import coverage_curves
 
 from ._common import peening_task, scalar, var
+from .params import CoverageParams
 
 
 def dent_from_dataset(ds: xr.Dataset) -> DentEllipse:
@@ -35,9 +36,13 @@ def dent_from_dataset(ds: xr.Dataset) -> DentEllipse:
 
 
 @peening_task(version="1")
-def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, shot_radius_m: float,
-                   grid_points: int, max_shots: int | None, shot_counts: list | None, sequences: int,
-                   seeds: list, coverage_percent: float, full_coverage_percent: float = 98.0) -> xr.Dataset:
+def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, coverage_percent: float,
+                   settings: CoverageParams) -> xr.Dataset:
+    """Coverage of the ``rev`` result's measuring region by ``dent``'s ellipse, N_f and
+    N_c for ``coverage_percent`` (module docstring)."""
+    c = settings
+    grid_points, max_shots, shot_counts, sequences = c.grid_points, c.max_shots, c.shot_counts, c.sequences
+    full_coverage_percent = c.full_coverage_percent
     ellipse = dent_from_dataset(dent)
     side = scalar(rev, "rev_side_m")
     measure = scalar(rev, "measure_side_m")
@@ -52,8 +57,8 @@ def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, shot_
         n_max = max_shots or int(math.ceil(-math.log(1e-3) / -math.log1p(-q)))
         counts = np.unique(np.geomspace(1, n_max, 40).astype(int))
     n_max = int(counts.max())
-    landings = [shot_stream(n_max, shot_radius_m, half, half, angle_deg, 1.0, int(s)).landing
-                for s in seeds[:sequences]]
+    landings = [shot_stream(n_max, c.shot_radius_m, half, half, angle_deg, 1.0, int(s)).landing
+                for s in c.seeds[:sequences]]
     cov = coverage_curves(landings, ellipse, gx, gy, counts)
     fit = fit_avrami(counts, cov, full_coverage_percent)
     n_f = fit.full_coverage_shots

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._common import MM, MPA
 from .plots import _result
 
 
@@ -68,19 +69,19 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
         for a in control.angle_deg.values:
             for v in control.velocity_m_s.values:
                 c = control.sel(angle_deg=a, velocity_m_s=v)
-                i = float(c.intensity_mm)
+                i = float(c.intensity_m) / MM
                 if not np.isfinite(i):
                     continue
                 note = f"saturation T = {float(c.saturation_shots):.0f} shots"
                 if int(c.intensity_extrapolated):
                     note += ", beyond the ladder (extrapolated)"
-                rows.append((f"Almen intensity, {a:g} deg, {v:g} m/s", _pm(i, float(c.intensity_std_mm), "mm"),
+                rows.append((f"Almen intensity, {a:g} deg, {v:g} m/s", _pm(i, float(c.intensity_std_m) / MM, "mm"),
                              note))
     tv = get("target_velocity")
     if tv is not None:
-        if "intensity_mm" in tv:
-            rows.append((f"velocity for {float(tv.intensity_mm):g} mm intensity", f"{float(tv.velocity_m_s):.1f} m/s",
-                         f"read off the control curve ({tv.attrs.get('method', '')})"))
+        if "intensity_m" in tv:
+            rows.append((f"velocity for {float(tv.intensity_m) / MM:g} mm intensity",
+                         f"{float(tv.velocity_m_s):.1f} m/s", f"read off the control curve ({tv.attrs.get('method', '')})"))
         else:
             rows.append(("shot velocity", f"{float(tv.velocity_m_s):.1f} m/s", "given in the study"))
     for stage, what in (("strip_dmin", "strip"), ("target_dmin", "target")):
@@ -108,7 +109,8 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
                      f"semi-axes along × across, {float(dent.dent_depth_m) * 1e6:.1f} um deep"))
     cov = get("coverage_curve")
     if cov is not None:
-        rows.append(("N_f (98 % coverage)", f"{float(cov.full_coverage_shots):.0f} shots", "eq. (5) fit"))
+        rows.append((f"N_f ({cov.attrs['full_coverage_percent']:g} % coverage)",
+                     f"{float(cov.full_coverage_shots):.0f} shots", "eq. (5) fit"))
         rows.append((f"N_c ({cov.attrs.get('target_coverage_percent', 0):g} % coverage)",
                      f"{int(cov.coverage_shots_rounded)} shots", "shots of each target REV run"))
     prof = get("residual_profile")
@@ -117,12 +119,12 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
         n = int(prof.sizes.get("sequence", 1))
         spread = f"std over {n} sequences" if n > 1 else "one sequence, no spread"
         for c in ("xx", "yy"):
-            m = prof[f"stress_{c}_mean_MPa"].values
-            s = prof[f"stress_{c}_spread_MPa"].values
+            m = prof[f"stress_{c}_mean_Pa"].values / MPA
+            s = prof[f"stress_{c}_spread_Pa"].values / MPA
             rows.append((f"surface sigma_{c}", _pm(m[0], s[0], "MPa", 0), f"top layer, {z[0] * 1e3:.3f} mm; {spread}"))
             k = int(np.nanargmin(m))
             rows.append((f"peak sigma_{c}", _pm(m[k], s[k], "MPa", 0), f"at {z[k] * 1e3:.3f} mm depth"))
-        zc, how = compressive_depth(z, prof.stress_xx_mean_MPa.values)
+        zc, how = compressive_depth(z, prof.stress_xx_mean_Pa.values)
         rows.append(("compressive depth (sigma_xx)", f"{zc * 1e3:.3f} mm" if zc is not None else "n/a", how))
     return rows
 

@@ -13,9 +13,10 @@
     target_rev + target_velocity + coverage_curve -> target_runs[sequence] -> residual_profile
     after a run: plots of whatever is done (PNG) and report.html, in the store (report_dir)
 
-Each task receives only the parameters it uses, so editing one section of a
-study recomputes only the stages that depend on it, and two studies that
-share a section (the paper's §5 study extends its §4 study) share results.
+Each task receives only the parameters it uses -- typed, in SI, read once by
+:func:`tasks.params.study_params` -- so editing one section of a study
+recomputes only the stages that depend on it, and two studies that share a
+section (the paper's §5 study extends its §4 study) share results.
 """
 
 from __future__ import annotations
@@ -29,9 +30,11 @@ from peenflow.study import load_study
 from ._common import SWEEP_COORDS
 from .arc_height import arc_height
 from .control_curve import control_curve
-from .headline import headline_numbers
 from .coverage_curve import coverage_curve
+from .dmin import dmin
+from .headline import headline_numbers
 from .indentation import indentation
+from .params import study_params
 from .plots import write_plots
 from .report import write_report
 from .residual_profile import residual_profile
@@ -43,29 +46,9 @@ from .strip_runs import strip_runs
 from .strip_sequences import sequences_rule
 from .target_runs import target_runs
 from .target_velocity import target_velocity
-from .two_shot import dmin
 
 #: single-impact / two-shot block: half width and depth in shot diameters
 IMPACT_BLOCK_D = 2.0
-
-
-def material_params(m) -> dict:
-    jc = m.johnson_cook
-    return {
-        "E_Pa": m.youngs_modulus_Pa, "nu": m.poisson_ratio, "density_kg_m3": m.density_kg_m3,
-        "A_Pa": jc.A_Pa, "B_Pa": jc.B_Pa, "n": jc.n, "C": jc.C, "m": jc.m,
-        "reference_strain_rate_1_s": jc.reference_strain_rate_1_s,
-        "room_temperature_K": jc.room_temperature_K, "melt_temperature_K": jc.melt_temperature_K,
-    }
-
-
-def fidelity_params(f) -> dict:
-    return {
-        "element_size_m": f.element_size_m, "fine_depth_m": f.fine_depth_m, "grading_ratio": f.grading_ratio,
-        "time_step_safety": f.time_step_safety, "window_contact_radii": f.window_contact_radii,
-        "settle_tolerance": f.settle_tolerance, "relaxation_tolerance": f.relaxation_tolerance,
-        "lateral_boundary": f.lateral_boundary,
-    }
 
 
 #: Every stage a study can have, in dependency order, with when it runs: the
@@ -96,112 +79,77 @@ STAGES: dict[str, str] = {
 
 def build_graph(path) -> Graph:
     study = load_study(path)
+    p = study_params(study)  # every stage parameter, in SI, read once
     g = Graph(study.name)
     g.coord_attrs = dict(SWEEP_COORDS)
-    D = study.shot.diameter_m
-    shot = {"radius_m": study.shot.radius_m, "density_kg_m3": study.shot.density_kg_m3,
-            "friction": study.shot.friction_coefficient}
-    fid = fidelity_params(study.fidelity)
-    dmin_settings = {"threshold": study.dmin.threshold, "resolution_m": study.dmin.resolution_m,
-                     "min_distance_m": study.dmin.min_distance_m, "max_distance_m": study.dmin.max_distance_m,
-                     "method": study.dmin.method}
-    c = study.coverage
-    coverage = {"shot_radius_m": study.shot.radius_m, "grid_points": c.grid_points, "max_shots": c.max_shots,
-                "shot_counts": None if c.shot_counts is None else list(c.shot_counts), "sequences": c.sequences,
-                "seeds": list(study.seeds.seeds("coverage", c.sequences)),
-                "full_coverage_percent": c.full_coverage_percent}
+    D = p.shot.diameter_m
+    kernel = {"shot": p.shot, "fidelity": p.fidelity}
     control = None
 
     if study.almen is not None:
         almen = study.almen
-        strip = almen.strip
-        smat = material_params(strip.material)
-        h = strip.thickness_m
+        smat = {"material": p.strip_material, **kernel}
+        h = p.strip.thickness_m
         if almen.rev_rule == "dmin":
             angles = list(study.dmin.strip_angles_deg)
             imp = g.sweep(single_impact, dims={"angle_deg": angles}, stage="strip_impact", params={
-                "material": smat, "shot": shot, "fidelity": fid, "velocity_m_s": study.dmin.strip_velocity_m_s,
+                **smat, "velocity_m_s": study.dmin.strip_velocity_m_s,
                 "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(h, IMPACT_BLOCK_D * D)})
             dm = g.sweep(dmin, dims={"angle_deg": angles}, upstream={"impact": imp}, stage="strip_dmin",
-                         params={"material": smat, "shot": shot, "fidelity": fid, "thickness_m": h, **dmin_settings})
-            rev = g.add(rev_size, upstream={"dmin": dm}, stage="strip_rev", params={
-                "rule": "dmin", "thickness_m": h, "shot_diameter_m": D,
-                "measure_side_m": None if almen.measure_size_mm is None else almen.measure_size_mm * 1e-3})
+                         params={**smat, "thickness_m": h, "search": p.dmin})
+            rev = g.add(rev_size, upstream={"dmin": dm}, stage="strip_rev", params={"rev": p.strip_rev})
             # the paper's Fig. 11: coverage on the strip REV from each angle's dent
             dent_s = g.sweep(indentation, dims={"angle_deg": angles}, upstream={"impact": imp},
                              stage="strip_indentation")
             g.sweep(coverage_curve, dims={"angle_deg": angles}, upstream={"dent": dent_s, "rev": rev},
-                    stage="strip_coverage", params={**coverage, "coverage_percent": 100.0})
+                    stage="strip_coverage", params={"settings": p.coverage, "coverage_percent": 100.0})
         else:
-            rev = g.add(rev_size, stage="strip_rev", params={
-                "rule": almen.rev_rule, "thickness_m": h, "shot_diameter_m": D,
-                "side_m": None if almen.rev_size_mm is None else almen.rev_size_mm * 1e-3,
-                "measure_side_m": None if almen.measure_size_mm is None else almen.measure_size_mm * 1e-3})
+            rev = g.add(rev_size, stage="strip_rev", params={"rev": p.strip_rev})
         sweep = {"angle_deg": list(almen.angles_deg), "velocity_m_s": list(almen.velocities_m_s)}
-        strip_p = {"strip_width_m": strip.width_m, "strip_thickness_m": h,
-                   "youngs_modulus_Pa": strip.material.youngs_modulus_Pa, "gauge_span_m": strip.gauge_span_m}
-        if almen.ladder_auto:  # the ladder extends itself (tasks/strip_runs.py); a given one keeps its keys
-            ladder = {"extend": {"first_shots": almen.ladder_first_shots, "max_shots": almen.ladder_max_shots,
-                                 "fit": almen.saturation_fit, "strip": strip_p}}
-        else:
-            ladder = {"shot_counts": list(almen.shot_counts)}
-        grow, adaptive = None, {}
-        if almen.sequences_adaptive:  # sequences added per point until the intensity's error is small enough
-            adaptive = {"sequence_tolerance_mm": almen.sequence_tolerance_mm, "sequences_start": almen.sequences,
-                        "sequences_max": almen.sequences_cap}
-            grow = Grow("sequence", almen.sequences, sequences_rule(
-                tolerance_mm=almen.sequence_tolerance_mm, n_start=almen.sequences, n_max=almen.sequences_cap,
-                fit=almen.saturation_fit, strip=strip_p))
+        # the ladder extends itself (tasks/strip_runs.py), or a given one keeps its keys
+        ladder = {"extend": p.ladder} if p.ladder is not None else {"shot_counts": list(almen.shot_counts)}
+        # adaptive sequences: each point grows its sequences until the intensity's error is small enough
+        grow = None if p.sequences is None else Grow("sequence", p.sequences.start, sequences_rule(p.sequences))
         runs = g.sweep(strip_runs, dims={**sweep, "sequence": list(range(almen.sequences_cap))}, upstream={"rev": rev},
-                       params={"material": smat, "shot": shot, "fidelity": fid, **ladder},
+                       params={**smat, **ladder},
                        point_params=lambda c: {"seed": study.seeds.seed("almen", c["sequence"])}, grow=grow)
-        arc = g.sweep(arc_height, dims=sweep, upstream={"runs": runs}, params=strip_p)
-        sat = g.sweep(saturation, dims=sweep, upstream={"arc": arc}, params={"fit": almen.saturation_fit, **adaptive})
+        arc = g.sweep(arc_height, dims=sweep, upstream={"runs": runs}, params={"strip": p.strip})
+        sat = g.sweep(saturation, dims=sweep, upstream={"arc": arc}, params={
+            "fit": almen.saturation_fit, **({} if p.sequences is None else {"sequences": p.sequences})})
         control = g.add(control_curve, upstream={"sat": sat}, params={"interpolation": almen.interpolation})
 
     if study.target is not None:
         t = study.target
-        tmat = material_params(t.material)
+        tmat = {"material": p.target_material, **kernel}
         given = t.velocity_m_s is not None
-        vel = g.add(target_velocity, upstream={} if given else {"control": control}, params={
-            "intensity_mm": t.intensity_mm, "angle_deg": t.angle_deg, "rule": t.control_angle_rule,
-            "velocity_m_s": t.velocity_m_s,
-            "allow_extrapolated": bool(study.almen and study.almen.allow_extrapolated_intensity),
-            **({} if given else {"interpolation": study.almen.interpolation})})
+        vel = g.add(target_velocity, upstream={} if given else {"control": control}, params={"target": p.target})
         imp_t = g.add(single_impact, upstream={"velocity": vel}, stage="target_impact", params={
-            "material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg,
+            **tmat, "angle_deg": t.angle_deg,
             "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(t.rev_thickness_m, IMPACT_BLOCK_D * D)})
         dent = g.add(indentation, upstream={"impact": imp_t}, stage="target_indentation")
         thick_up = {}
         if t.rev_thickness_auto:
             thick_up["thickness"] = g.add(rev_thickness, upstream={"velocity": vel, "dent": dent},
                                           stage="target_rev_thickness", params={
-                "material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg,
+                **tmat, "angle_deg": t.angle_deg,
                 "half_width_m": IMPACT_BLOCK_D * D, "part_thickness_m": t.thickness_m})
-        if t.rev_size_mm is None:
+        if p.target_rev.rule == "dmin":
             dm_t = g.add(dmin, upstream={"impact": imp_t}, stage="target_dmin", params={
-                "material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg,
-                "thickness_m": min(t.rev_thickness_m, 2 * IMPACT_BLOCK_D * D), **dmin_settings})
-            rev_t = g.add(rev_size, upstream={"dmin": dm_t, **thick_up}, stage="target_rev", params={
-                "rule": "dmin", "thickness_m": t.rev_thickness_m, "shot_diameter_m": D,
-                "measure_side_m": None if t.measure_size_mm is None else t.measure_size_mm * 1e-3})
+                **tmat, "angle_deg": t.angle_deg,
+                "thickness_m": min(t.rev_thickness_m, 2 * IMPACT_BLOCK_D * D), "search": p.dmin})
+            rev_t = g.add(rev_size, upstream={"dmin": dm_t, **thick_up}, stage="target_rev",
+                          params={"rev": p.target_rev})
         else:
-            rev_t = g.add(rev_size, upstream=thick_up, stage="target_rev", params={
-                "rule": "explicit", "thickness_m": t.rev_thickness_m, "shot_diameter_m": D,
-                "side_m": t.rev_size_mm * 1e-3,
-                "measure_side_m": None if t.measure_size_mm is None else t.measure_size_mm * 1e-3})
+            rev_t = g.add(rev_size, upstream=thick_up, stage="target_rev", params={"rev": p.target_rev})
         cov = g.add(coverage_curve, upstream={"dent": dent, "rev": rev_t}, params={
-            **coverage, "angle_deg": t.angle_deg, "coverage_percent": t.coverage_percent})
+            "settings": p.coverage, "angle_deg": t.angle_deg, "coverage_percent": t.coverage_percent})
         runs_t = g.sweep(target_runs, dims={"sequence": list(range(t.sequences))},
                          upstream={"rev": rev_t, "velocity": vel, "coverage": cov},
-                         params={"material": tmat, "shot": shot, "fidelity": fid, "angle_deg": t.angle_deg},
+                         params={**tmat, "angle_deg": t.angle_deg},
                          point_params=lambda c: {"seed": study.seeds.seed("target", c["sequence"])})
-        measured = t.measured_profile.as_params() if t.measured_profile is not None else None
         # The release is that of a plate peened on one whole face; the stage
         # applies it only when the REV spans the part's thickness.
-        free_part = {"thickness_m": t.thickness_m, "young_modulus_Pa": t.material.youngs_modulus_Pa,
-                     "poisson_ratio": t.material.poisson_ratio}
-        g.add(residual_profile, upstream={"runs": runs_t}, params={"measured": measured, "free_part": free_part})
+        g.add(residual_profile, upstream={"runs": runs_t}, params={"measured": p.measured, "free_part": p.plate})
 
     ex = study.execution
     g.execution = {k: v for k, v in (("workers", ex.workers), ("threads", ex.threads_per_worker))

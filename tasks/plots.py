@@ -21,6 +21,8 @@ import numpy as np
 
 from peenflow.engine import ResultNotReady, stage_result
 
+from ._common import MM, MPA
+
 
 def _result(graph, store, stage):
     if stage not in graph.stages:
@@ -63,27 +65,27 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
         fig, axes = plt.subplots(1, len(angles), figsize=(6 * len(angles), 4.5), squeeze=False)
         for ax, a in zip(axes[0], angles):
             for v in arc.velocity_m_s.values:
-                ah = arc.arc_height_mm.sel(angle_deg=a, velocity_m_s=v)
+                ah = arc.arc_height_m.sel(angle_deg=a, velocity_m_s=v) / MM
                 if not np.isfinite(ah).any():
                     continue
                 n = arc.shots.values
                 label = f"{v:g} m/s"
                 fitted = None
                 # a partial result lacks the points whose fit failed (e.g. "cannot saturate")
-                if (sat is not None and "fit_arc_height_mm" in sat and a in sat.angle_deg.values
+                if (sat is not None and "fit_arc_height_m" in sat and a in sat.angle_deg.values
                         and v in sat.velocity_m_s.values):
                     s = sat.sel(angle_deg=a, velocity_m_s=v)
-                    if np.isfinite(s.fit_arc_height_mm).any():
+                    if np.isfinite(s.fit_arc_height_m).any():
                         fitted = s
-                        label += f": I = {float(s.intensity_mm):.3f} mm at T = {float(s.saturation_shots):.0f}"
+                        label += f": I = {float(s.intensity_m) / MM:.3f} mm at T = {float(s.saturation_shots):.0f}"
                         if "intensity_extrapolated" in s and int(s.intensity_extrapolated):
                             label += " (T beyond the ladder)"
                 line = ax.plot(n, ah.mean("sequence"), "o", label=label)[0]
                 ax.plot(np.repeat(n[None], ah.sizes["sequence"], 0).ravel(), ah.values.ravel(), ".",
                         color=line.get_color(), alpha=0.3)
                 if fitted is not None:
-                    ax.plot(fitted.shots_fine, fitted.fit_arc_height_mm, "-", color=line.get_color())
-                    ax.plot(float(fitted.saturation_shots), float(fitted.intensity_mm), "*", ms=13,
+                    ax.plot(fitted.shots_fine, fitted.fit_arc_height_m / MM, "-", color=line.get_color())
+                    ax.plot(float(fitted.saturation_shots), float(fitted.intensity_m) / MM, "*", ms=13,
                             color=line.get_color(), mec="k")
             ax.set_xscale("log")
             key = [Line2D([], [], color="0.3", marker="o", ls="", label="mean over sequences"),
@@ -104,15 +106,15 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
         n_seq = _sequences(sat) if sat is not None else 1
         for a in control.angle_deg.values:
             c = control.sel(angle_deg=a)
-            line = ax.errorbar(c.velocity_m_s, c.intensity_mm, yerr=np.nan_to_num(c.intensity_std_mm), fmt="o",
-                               capsize=3, label=f"{a:g} deg")
-            ax.plot(c.velocity_fine_m_s, c.curve_intensity_mm, "-", color=line[0].get_color())
+            line = ax.errorbar(c.velocity_m_s, c.intensity_m / MM, yerr=np.nan_to_num(c.intensity_std_m) / MM,
+                               fmt="o", capsize=3, label=f"{a:g} deg")
+            ax.plot(c.velocity_fine_m_s, c.curve_intensity_m / MM, "-", color=line[0].get_color())
         title = f"control curves, {strip}"
         tv = _result(graph, store, "target_velocity")
-        if tv is not None and "intensity_mm" in tv:
-            ax.axhline(float(tv.intensity_mm), ls=":", color="k")
+        if tv is not None and "intensity_m" in tv:
+            ax.axhline(float(tv.intensity_m) / MM, ls=":", color="k")
             ax.axvline(float(tv.velocity_m_s), ls=":", color="k")
-            title += f"\ntarget {float(tv.intensity_mm):g} mm -> {float(tv.velocity_m_s):.1f} m/s"
+            title += f"\ntarget {float(tv.intensity_m) / MM:g} mm -> {float(tv.velocity_m_s):.1f} m/s"
         ax.plot([], [], " ", label=f"error bars: std over {n_seq} sequence(s)" if n_seq > 1
                 else "one sequence: no spread")
         ax.set(xlabel="shot velocity (m/s)", ylabel="Almen intensity (mm)", title=title)
@@ -129,7 +131,8 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
         ax.plot(n, cov.coverage_mean_percent, "o", ms=3, label="Monte Carlo (mean)")
         ax.plot(n, cov.avrami_coverage_percent, "-", label=f"eq. (5), A = {float(cov.avrami_rate):.3g} per shot")
         ax.plot(n, cov.uniform_closed_form_percent, "--", label="closed form, uniform landings")
-        ax.axhline(98.0, ls="-.", color="0.4", lw=0.8, label="98 % (full coverage)")
+        full = cov.attrs["full_coverage_percent"]
+        ax.axhline(full, ls="-.", color="0.4", lw=0.8, label=f"{full:g} % (full coverage)")
         n_f, n_c = float(cov.full_coverage_shots), float(cov.coverage_shots)
         ax.axvline(n_f, ls=":", color="k", label=f"N_f = {n_f:.0f}")
         side_mm = float(np.sqrt(float(cov.peening_area_m2))) * 1e3
@@ -145,30 +148,30 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
     prof = _result(graph, store, "residual_profile")
     if prof is not None:
         fig, ax = plt.subplots(figsize=(7, 4.8))
-        z = np.asarray(prof.depth_m.values).reshape(-1) * 1e3
+        z = np.asarray(prof.depth_m.values).reshape(-1) / MM
         n_seq = _sequences(prof)
         for c in ("xx", "yy"):
-            m = prof[f"stress_{c}_mean_MPa"].values
-            s = prof[f"stress_{c}_spread_MPa"].values
+            m = prof[f"stress_{c}_mean_Pa"].values / MPA
+            s = prof[f"stress_{c}_spread_Pa"].values / MPA
             line = ax.plot(z, m, "-o", ms=3, label=f"sigma_{c}" + (" (mean)" if n_seq > 1 else ""))[0]
             if n_seq > 1:
                 ax.fill_between(z, m - s, m + s, color=line.get_color(), alpha=0.2)
-            if f"stress_{c}_free_mean_MPa" in prof:
-                ax.plot(z, prof[f"stress_{c}_free_mean_MPa"].values, "--", color=line.get_color(),
+            if f"stress_{c}_free_mean_Pa" in prof:
+                ax.plot(z, prof[f"stress_{c}_free_mean_Pa"].values / MPA, "--", color=line.get_color(),
                         label=f"sigma_{c}, free part")
-        if "measured_stress_MPa" in prof:
+        if "measured_stress_Pa" in prof:
             yy = prof.measured_component.values == 1
             for sel, marker, c in ((~yy, "ks", "xx"), (yy, "k^", "yy")):
                 if sel.any():
-                    ax.plot(prof.measured_depth_m.values[sel] * 1e3, prof.measured_stress_MPa.values[sel], marker,
+                    ax.plot(prof.measured_depth_m.values[sel] / MM, prof.measured_stress_Pa.values[sel] / MPA, marker,
                             mfc="none", label=f"measured sigma_{c}")
         # Show the peened layer, not the whole (mostly unstressed) REV depth:
         # 1.5 times the depth where |mean sigma_xx| last exceeds 5 % of its peak.
-        mean = prof.stress_xx_mean_MPa.values
+        mean = prof.stress_xx_mean_Pa.values / MPA
         significant = np.nonzero(np.abs(mean) > 0.05 * np.abs(mean).max())[0]
         if significant.size:
             ax.set_xlim(0, min(z[-1], 1.5 * z[significant[-1]] + (z[1] - z[0] if z.size > 1 else 0)))
-        peak, at = float(prof.peak_compressive_xx_MPa), float(prof.peak_compressive_xx_depth_m) * 1e3
+        peak, at = float(prof.peak_compressive_xx_Pa) / MPA, float(prof.peak_compressive_xx_depth_m) / MM
         ax.annotate(f"peak {peak:.0f} MPa at {at:.3f} mm", (at, peak), xytext=(10, -5),
                     textcoords="offset points", fontsize=8)
         ax.annotate(f"surface {mean[0]:.0f} MPa", (z[0], mean[0]), xytext=(10, 12), textcoords="offset points",
@@ -182,8 +185,8 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
         tv = _result(graph, store, "target_velocity")
         what = [about.get("target_material", ""), shot]
         if tv is not None:
-            if "intensity_mm" in tv:
-                what.append(f"{float(tv.intensity_mm):g} mm intensity")
+            if "intensity_m" in tv:
+                what.append(f"{float(tv.intensity_m) / MM:g} mm intensity")
             what.append(f"{float(tv.velocity_m_s):.1f} m/s")
         if about.get("coverage_percent"):
             what.append(f"{about['coverage_percent']:g} % coverage")

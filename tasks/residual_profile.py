@@ -27,7 +27,8 @@ import xarray as xr
 
 from peenflow.methods import DepthProfile, equilibrium_residual
 
-from ._common import MPA, depth as depth_coord, peening_task, var
+from ._common import depth as depth_coord, peening_task, var
+from .params import MeasuredProfile, PlateParams
 
 
 def _peak(depth, values):
@@ -41,15 +42,15 @@ def _one_profile(values: np.ndarray) -> np.ndarray:
     return values.reshape(-1, values.shape[-1])[0] if values.ndim > 1 else values
 
 
-def _free_plate(z_edges: np.ndarray, stress: dict, part: dict) -> tuple[dict, dict]:
-    """Release of a plate of thickness H = ``part["thickness_m"]`` (module docstring).
+def _free_plate(z_edges: np.ndarray, stress: dict, part: PlateParams) -> tuple[dict, dict]:
+    """Release of a plate of thickness H = ``part.thickness_m`` (module docstring).
 
     ``stress``: {"xx": (n_layer,) Pa, "yy": ...} layer values; returns the
     released layer values (Pa) per component and the bow per component
     (1/m, positive when the peened face turns convex).
     """
-    H = part["thickness_m"]
-    E, nu = part["young_modulus_Pa"], part["poisson_ratio"]
+    H = part.thickness_m
+    E, nu = part.youngs_modulus_Pa, part.poisson_ratio
     released, moment, balance = {}, {}, {}
     for c, s in stress.items():
         prof = DepthProfile(z_edges, s)
@@ -65,35 +66,34 @@ def _free_plate(z_edges: np.ndarray, stress: dict, part: dict) -> tuple[dict, di
 
 
 @peening_task(version="3")
-def residual_profile(runs: xr.Dataset, *, measured: dict | None = None, free_part: dict | None = None) -> xr.Dataset:
-    """``runs``: target REV results combined over ``sequence``; ``measured``:
-    {"depth_m": [...], "stress_Pa": [...], "component": ["xx" | "yy", ...]}
-    (SI, one entry per measured point) or None;
-    ``free_part``: the part as a plate, {"thickness_m", "young_modulus_Pa",
-    "poisson_ratio"}, or None; the released profile and bow are added when the
-    REV spans that thickness (a thinner REV does not hold the part's resultants)."""
+def residual_profile(runs: xr.Dataset, *, measured: MeasuredProfile | None = None,
+                     free_part: PlateParams | None = None) -> xr.Dataset:
+    """``runs``: target REV results combined over ``sequence``; ``measured``: the
+    measured points (SI) or None; ``free_part``: the part as a plate, or None; the
+    released profile and bow are added when the REV spans that thickness (a
+    thinner REV does not hold the part's resultants)."""
     depth = _one_profile(runs.depth_m.values)
     out = {}
     means = {}
     for c in ("xx", "yy"):
         s = runs[f"stress_{c}_Pa"].transpose("sequence", "layer").values
         means[c] = s.mean(axis=0)
-        out[f"stress_{c}_MPa"] = var(s / MPA, ("sequence", "layer"), "MPa", f"sigma_{c} per sequence")
-        out[f"stress_{c}_mean_MPa"] = var(means[c] / MPA, ("layer",), "MPa", f"mean sigma_{c}")
+        out[f"stress_{c}_Pa"] = var(s, ("sequence", "layer"), "Pa", f"sigma_{c} per sequence")
+        out[f"stress_{c}_mean_Pa"] = var(means[c], ("layer",), "Pa", f"mean sigma_{c}")
         spread = s.std(axis=0, ddof=1) if s.shape[0] > 1 else np.zeros(s.shape[1])
-        out[f"stress_{c}_spread_MPa"] = var(spread / MPA, ("layer",), "MPa", "std over sequences")
-        peak, at = _peak(depth, means[c] / MPA)
-        out[f"peak_compressive_{c}_MPa"] = var(peak, (), "MPa", f"most compressive mean sigma_{c}")
+        out[f"stress_{c}_spread_Pa"] = var(spread, ("layer",), "Pa", "std over sequences")
+        peak, at = _peak(depth, means[c])
+        out[f"peak_compressive_{c}_Pa"] = var(peak, (), "Pa", f"most compressive mean sigma_{c}")
         out[f"peak_compressive_{c}_depth_m"] = var(at, (), "m", f"depth of the most compressive mean sigma_{c}")
     coords = {"sequence": var(runs.sequence.values, ("sequence",), "1", "random shot sequence number"),
               "depth_m": depth_coord(depth, "layer", "layer mid-depth below the peened surface")}
     attrs = {"measured_profile": "none", "free_part": "no (the REV is thinner than the part)"}
     z_edges = _one_profile(runs.z_edge_m.values)
-    if free_part and abs(z_edges[-1] - free_part["thickness_m"]) <= 1e-9 * free_part["thickness_m"]:
+    if free_part and abs(z_edges[-1] - free_part.thickness_m) <= 1e-9 * free_part.thickness_m:
         released, bow, balance = _free_plate(z_edges, means, free_part)
         for c in ("xx", "yy"):
-            out[f"stress_{c}_free_mean_MPa"] = var(
-                released[c] / MPA, ("layer",), "MPa",
+            out[f"stress_{c}_free_mean_Pa"] = var(
+                released[c], ("layer",), "Pa",
                 f"mean sigma_{c} of the free part (membrane force and bending moment released)")
             out[f"bow_curvature_{c}_1_per_m"] = var(
                 bow[c], (), "m-1", "curvature of the free part, positive when the peened face is convex")
@@ -101,28 +101,28 @@ def residual_profile(runs: xr.Dataset, *, measured: dict | None = None, free_par
                 balance[c].relative_force, (), "1", "|∫σ dz| / ∫|σ| dz of the free part (0 = equilibrium)")
             out[f"free_relative_moment_{c}"] = var(
                 balance[c].relative_moment, (), "1", "|∫σ (z-H/2) dz| / ∫|σ||z-H/2| dz of the free part")
-        attrs["free_part"] = f"plate {free_part['thickness_m'] * 1e3:g} mm thick, released"
+        attrs["free_part"] = f"plate {free_part.thickness_m * 1e3:g} mm thick, released"
     if measured:
-        md = np.asarray(measured["depth_m"], dtype=float)
-        ms = np.asarray(measured["stress_Pa"], dtype=float) / MPA
-        comp = np.asarray(measured["component"])
+        md = np.asarray(measured.depth_m, dtype=float)
+        ms = np.asarray(measured.stress_Pa, dtype=float)
+        comp = np.asarray(measured.component)
         # each point against our mean profile of its own component
         ours = np.empty_like(md)
         for c in ("xx", "yy"):
             at = comp == c
-            ours[at] = np.interp(md[at], depth, out[f"stress_{c}_mean_MPa"].values)
+            ours[at] = np.interp(md[at], depth, means[c])
         coords["measured_point"] = var(np.arange(md.size), ("measured_point",), "1", "measured point number")
         coords["measured_depth_m"] = depth_coord(md, "measured_point", "depth of the measured point")
-        out["measured_stress_MPa"] = var(ms, ("measured_point",), "MPa", "measured residual stress")
+        out["measured_stress_Pa"] = var(ms, ("measured_point",), "Pa", "measured residual stress")
         out["measured_component"] = var((comp == "yy").astype(np.int8), ("measured_point",), "1",
                                         "stress component of the measurement",
                                         flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="sigma_xx sigma_yy")
-        out["predicted_at_measured_MPa"] = var(ours, ("measured_point",), "MPa",
+        out["predicted_at_measured_Pa"] = var(ours, ("measured_point",), "Pa",
                                                "predicted mean stress of the same component at the measured depth")
-        out["rms_difference_MPa"] = var(float(np.sqrt(np.mean((ours - ms) ** 2))), (), "MPa",
+        out["rms_difference_Pa"] = var(float(np.sqrt(np.mean((ours - ms) ** 2))), (), "Pa",
                                         "RMS of predicted - measured")
         mpeak, mat = _peak(md, ms)
-        out["measured_peak_compressive_MPa"] = var(mpeak, (), "MPa", "most compressive measured stress")
+        out["measured_peak_compressive_Pa"] = var(mpeak, (), "Pa", "most compressive measured stress")
         out["measured_peak_depth_m"] = var(mat, (), "m", "depth of the most compressive measured stress")
         counts = ", ".join(f"{int((comp == c).sum())} sigma_{c}" for c in ("xx", "yy") if (comp == c).any())
         attrs["measured_profile"] = f"{md.size} points ({counts})"

@@ -14,34 +14,18 @@ import numpy as np
 import xarray as xr
 
 from ._common import peening_task, var
+from .params import RevParams
 
 
 @peening_task(version="2")
-def rev_size(dmin: xr.Dataset | None = None, thickness: xr.Dataset | None = None, *, rule: str,
-             thickness_m: float, shot_diameter_m: float, side_m: float | None = None,
-             measure_side_m: float | None = None) -> xr.Dataset:
-    """``thickness``: a rev_thickness result; it replaces ``thickness_m`` when given."""
-    if thickness is not None:
-        thickness_m = float(thickness.thickness_m)
-    d_min = float("nan")
-    if rule == "dmin":
-        if dmin is None:
-            raise ValueError("rule 'dmin' needs the d_min search upstream")
-        d_min = float(np.nanmax(np.asarray(dmin.d_min_m.values)))
-        side, measure = 3.0 * d_min, d_min
-    elif rule == "paper":
-        side, measure = 6.0 * shot_diameter_m, 2.0 * shot_diameter_m
-    elif rule == "explicit":
-        side = side_m
-        measure = measure_side_m if measure_side_m is not None else side_m / 3.0
-    else:
-        raise ValueError(f"unknown REV rule {rule!r}")
-    if side_m is not None and rule != "explicit":
-        side = side_m
-    if measure_side_m is not None:
-        measure = measure_side_m
-    if not 0 < measure <= side:  # == side: the whole face (periodic lateral faces have no edge to avoid)
-        raise ValueError(f"measuring region {measure:.4g} m must be > 0 and at most the REV side {side:.4g} m")
+def rev_size(dmin: xr.Dataset | None = None, thickness: xr.Dataset | None = None, *, rev: RevParams) -> xr.Dataset:
+    """``thickness``: a rev_thickness result; it replaces ``rev.thickness_m`` when given."""
+    thickness_m = rev.thickness_m if thickness is None else float(thickness.thickness_m)
+    if rev.rule == "dmin" and dmin is None:
+        raise ValueError("rule 'dmin' needs the d_min search upstream")
+    d_min = float("nan") if dmin is None else float(np.nanmax(np.asarray(dmin.d_min_m.values)))
+    geometry = rev.geometry(None if dmin is None else d_min)
+    side, measure = geometry.side, geometry.measuring_side
     return xr.Dataset(
         {
             "rev_side_m": var(side, (), "m", "REV top-surface side"),
@@ -49,5 +33,5 @@ def rev_size(dmin: xr.Dataset | None = None, thickness: xr.Dataset | None = None
             "thickness_m": var(thickness_m, (), "m", "REV thickness"),
             "d_min_m": var(d_min, (), "m", "d_min used (NaN when not from a search)"),
         },
-        attrs={"rule": rule},
+        attrs={"rule": rev.rule},
     )

@@ -25,7 +25,9 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from . import _kernel as K
 from ._common import peening_task, scalar, var
+from .params import FidelityParams, MaterialParams, ShotParams
 from .single_impact import run_single_impact
 
 PLASTIC_FRACTION = 0.01
@@ -33,9 +35,7 @@ PLASTIC_FRACTION = 0.01
 
 def _column_profile(mesh, result, radius: float, depth: float) -> tuple[np.ndarray, np.ndarray]:
     """(z centroids, (n_layer, 2) σxx σyy) averaged over columns within ``radius`` of the axis, z <= depth."""
-    xc = 0.5 * (mesh.x[1:] + mesh.x[:-1])
-    yc = 0.5 * (mesh.y[1:] + mesh.y[:-1])
-    zc = 0.5 * (mesh.z[1:] + mesh.z[:-1])
+    xc, yc, zc = K.cell_centres(mesh)
     nx, ny, nz = xc.size, yc.size, zc.size
     stress = result.stress.reshape(nz, ny, nx, 6)  # element order: x fastest, then y, then z
     inside = (xc[None, :] ** 2 + yc[:, None] ** 2) <= radius**2
@@ -47,7 +47,7 @@ def _column_profile(mesh, result, radius: float, depth: float) -> tuple[np.ndarr
 
 
 def _plastic_depth(mesh, result) -> float:
-    zc = 0.5 * (mesh.z[1:] + mesh.z[:-1])
+    zc = K.cell_centres(mesh)[2]
     eps = result.eps_p.reshape(zc.size, -1).max(axis=1)
     deep = np.nonzero(eps > PLASTIC_FRACTION * eps.max())[0]
     return float(mesh.z[deep[-1] + 1])
@@ -58,8 +58,9 @@ def _dent_depth(result) -> float:
 
 
 @peening_task(version="1")
-def rev_thickness(velocity: xr.Dataset, dent: xr.Dataset, *, material: dict, shot: dict, fidelity: dict,
-                  angle_deg: float, half_width_m: float, part_thickness_m: float, tolerance: float = 0.02,
+def rev_thickness(velocity: xr.Dataset, dent: xr.Dataset, *, material: MaterialParams, shot: ShotParams,
+                  fidelity: FidelityParams, angle_deg: float, half_width_m: float, part_thickness_m: float,
+                  tolerance: float = 0.02,
                   ctx=None) -> xr.Dataset:
     """``velocity``: target_velocity result; ``dent``: the target's indentation (radius for the columns)."""
     speed = scalar(velocity, "velocity_m_s")
@@ -70,16 +71,16 @@ def rev_thickness(velocity: xr.Dataset, dent: xr.Dataset, *, material: dict, sho
         return run_single_impact(material, shot, fidelity, speed, angle_deg, half_width_m, h,
                                  threads=threads, record=False)
 
-    h_min = 2.0 * fidelity["element_size_m"]
+    h_min = 2.0 * fidelity.element_size_m
     # d_p on a block as thick as the shot diameter is enough: the plastic zone
     # of one impact is a fraction of the contact radius deep.
-    first = min(part_thickness_m, max(h_min, 2.0 * shot["radius_m"]))
+    first = min(part_thickness_m, max(h_min, 2.0 * shot.radius_m))
     mesh, res = impact(first)
     d_p = _plastic_depth(mesh, res)
     # Compare where both blocks have the same (fine-zone) layers.
-    depth = min(2.0 * d_p, fidelity["fine_depth_m"])
+    depth = min(2.0 * d_p, fidelity.fine_depth_m)
     if depth < d_p:
-        raise ValueError(f"the fine zone ({fidelity['fine_depth_m']:.3g} m) is shallower than the plastic depth of "
+        raise ValueError(f"the fine zone ({fidelity.fine_depth_m:.3g} m) is shallower than the plastic depth of "
                          f"one impact ({d_p:.3g} m): raise fidelity.fine_depth_D or fine_depth_mm")
     h = min(part_thickness_m, max(h_min, 4.0 * d_p))
     tried, stress_diff, dent_diff = [], [], []

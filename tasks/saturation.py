@@ -12,58 +12,59 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from peenflow.methods import fit_sequences, sequences_verdict
+from peenflow.methods import fit_sequences
 
-from ._common import MM, peening_task, var
+from ._common import peening_task, var
+from .params import SequencesParams
 
 MODELS = {"paper": "eq10", "exponential_2p": "exp2", "exponential_3p": "exp3"}
 
 
 @peening_task(version="1")
-def saturation(arc: xr.Dataset, *, fit: str = "paper", angle_deg: float | None = None,
-               velocity_m_s: float | None = None, sequence_tolerance_mm: float | None = None,
-               sequences_start: int | None = None, sequences_max: int | None = None) -> xr.Dataset:
-    """``arc``: arc_height_mm with dims (sequence, shots) for the point (angle_deg, velocity_m_s).
+def saturation(arc: xr.Dataset, *, fit: str, angle_deg: float | None = None,
+               velocity_m_s: float | None = None, sequences: SequencesParams | None = None) -> xr.Dataset:
+    """``arc``: arc_height_m with dims (sequence, shots) for the point (angle_deg, velocity_m_s).
 
-    With adaptive sequences (``sequence_tolerance_mm``, mm) the verdict of the
-    rule that grew them is recorded: whether the standard error met the
-    tolerance, the standard error and its 95 % bound (tasks/strip_sequences.py).
+    With adaptive sequences (``sequences``) the verdict of the rule that grew
+    them is recorded: whether the standard error met the tolerance, the
+    standard error and its 95 % bound (tasks/strip_sequences.py).
 
-    Returns intensities in mm."""
+    Returns intensities (arc heights) in m."""
     counts = arc.shots.values.astype(float)
-    ah_m = arc.arc_height_mm.transpose("sequence", "shots").values * MM
+    ah_m = arc.arc_height_m.transpose("sequence", "shots").values
     result = fit_sequences(counts, ah_m, MODELS[fit])
-    per_seq = np.array([f.intensity if f is not None else np.nan for f in result.fits]) / MM
+    per_seq = np.array([f.intensity if f is not None else np.nan for f in result.fits])
     n_sat = np.array([f.saturation_shots if f is not None else np.nan for f in result.fits])
     extrap = np.array([bool(f.extrapolated) if f is not None else True for f in result.fits])
     mean = result.mean_fit
     n_fine = np.geomspace(max(1.0, counts.min() / 2), counts.max() * 1.5, 80)
     errors = [e or "" for e in result.errors]
-    rule = {}
-    if sequence_tolerance_mm is not None:
-        v = sequences_verdict(per_seq, sequence_tolerance_mm, n_min=sequences_start, n_max=sequences_max)
-        rule = {"intensity_standard_error_mm": var(v.standard_error, (), "mm",
-                                                   "standard error of the per-sequence intensities' mean"),
-                "intensity_standard_error_bound_mm": var(v.bound, (), "mm",
-                                                         "95 % upper confidence bound of that standard error"),
+    rule, why = {}, {}
+    if sequences is not None:
+        v = sequences.verdict(per_seq)
+        rule = {"intensity_standard_error_m": var(v.standard_error, (), "m",
+                                                  "standard error of the per-sequence intensities' mean"),
+                "intensity_standard_error_bound_m": var(v.bound, (), "m",
+                                                        "95 % upper confidence bound of that standard error"),
                 "sequence_tolerance_met": var(int(v.met), (), "1", "1 if the bound is within the tolerance",
                                               flag_values=np.array([0, 1]), flag_meanings="not_met met")}
+        why = {"sequences_rule": f"{sequences.describe()}: {v.reason}"}
     return xr.Dataset(
         {
-            "intensity_mm": var(mean.intensity / MM, (), "mm", "Almen intensity from the mean curve (eq. 11)"),
+            "intensity_m": var(mean.intensity, (), "m", "Almen intensity from the mean curve (eq. 11)"),
             "saturation_shots": var(mean.saturation_shots, (), "1", "saturation point T: N solving Ah(2N) = 1.1 Ah(N)"),
             "intensity_extrapolated": var(int(mean.extrapolated), (), "1",
                                           "1 if the saturation point lies outside the shot ladder",
                                           flag_values=np.array([0, 1]), flag_meanings="within_ladder extrapolated"),
-            "sequence_intensity_mm": var(per_seq, ("sequence",), "mm", "per-sequence intensity"),
+            "sequence_intensity_m": var(per_seq, ("sequence",), "m", "per-sequence intensity"),
             "sequence_saturation_shots": var(n_sat, ("sequence",), "1", "per-sequence saturation point T"),
             "sequence_extrapolated": var(extrap.astype(int), ("sequence",), "1",
                                          "1 if the sequence's saturation point lies outside the shot ladder",
                                          flag_values=np.array([0, 1]), flag_meanings="within_ladder extrapolated"),
-            "intensity_std_mm": var(result.intensity_std / MM, (), "mm", "spread over sequences (ddof=1)"),
-            "fit_arc_height_mm": var(mean.arc_height(n_fine) / MM, ("shots_fine",), "mm", "fitted mean curve"),
-            "mean_arc_height_mm": var(np.nanmean(ah_m, axis=0) / MM, ("shots",), "mm", "arc height, mean over sequences"),
-            "fit_residual_rms_mm": var(mean.residual_rms / MM, (), "mm", "RMS residual of the mean-curve fit"),
+            "intensity_std_m": var(result.intensity_std, (), "m", "spread over sequences (ddof=1)"),
+            "fit_arc_height_m": var(mean.arc_height(n_fine), ("shots_fine",), "m", "fitted mean curve"),
+            "mean_arc_height_m": var(np.nanmean(ah_m, axis=0), ("shots",), "m", "arc height, mean over sequences"),
+            "fit_residual_rms_m": var(mean.residual_rms, (), "m", "RMS residual of the mean-curve fit"),
             **rule,
         },
         coords={"sequence": var(arc.sequence.values, ("sequence",), "1", "random shot sequence number"),
@@ -72,7 +73,5 @@ def saturation(arc: xr.Dataset, *, fit: str = "paper", angle_deg: float | None =
         attrs={"fit_model": mean.model,
                "fit_parameters": ", ".join(f"{k}={v:.6g}" for k, v in mean.parameters.items()),
                "sequence_fit_errors": " | ".join(errors),
-               **({"sequences_rule": f"tolerance {sequence_tolerance_mm:g} mm on the standard error "
-                                     f"(95 % bound), {sequences_start} to {sequences_max} sequences: "
-                                     f"{v.reason}"} if rule else {})},
+               **why},
     )

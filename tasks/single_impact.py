@@ -16,27 +16,30 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from peenflow.methods import VOIGT
+
 from . import _kernel as K
 from ._common import COMPONENT_LONG_NAME, depth, labels, peening_task, scalar, var
+from .params import FidelityParams, MaterialParams, ShotParams
 
 
-def run_single_impact(material: dict, shot: dict, fidelity: dict, speed: float, angle_deg: float,
-                      half_width_m: float, thickness_m: float, threads: int = 1, record: bool = True):
+def run_single_impact(material: MaterialParams, shot: ShotParams, fidelity: FidelityParams, speed: float,
+                      angle_deg: float, half_width_m: float, thickness_m: float, threads: int = 1,
+                      record: bool = True):
+    """(mesh, kernel result) of one shot at ``speed`` (m s-1) on a block ``half_width_m`` x ``thickness_m`` (m)."""
     normal = angle_deg == 90.0
     mesh = K.impact_block(fidelity, half_width_m, thickness_m, fine_half=0.6 * half_width_m,
                           symmetric_x=normal, symmetric_y=True)
-    centre, velocity = K.aimed_shot(shot, speed, angle_deg)
-    mat = K.kernel_material(material)
-    result = K.run_impacts(K.target(mesh, fidelity, impact_block=True), mat, K.make_shots(shot, centre, velocity),
-                           K.kernel_options(fidelity, shot, threads, record=record, record_every=4))
+    centre, velocity = shot.aimed(speed, angle_deg)
+    result = K.run_impacts(fidelity.boundary(mesh, impact_block=True), material.to_kernel(),
+                           shot.shots(centre, velocity),
+                           fidelity.options(shot, threads, record=record, record_every=4))
     return mesh, result
 
 
 def impact_dataset(mesh, result, normal: bool) -> xr.Dataset:
     stress, eps = K.grid_fields(mesh, result.stress, result.eps_p)
-    xc = 0.5 * (mesh.x[1:] + mesh.x[:-1])
-    yc = 0.5 * (mesh.y[1:] + mesh.y[:-1])
-    zc = 0.5 * (mesh.z[1:] + mesh.z[:-1])
+    xc, yc, zc = K.cell_centres(mesh)
     uz = K.surface_uz(mesh, result.displacement)  # (nnx, nny)
     vm_top = K.von_mises(stress[0]).T  # (nx, ny)
     xs, ys, xcs, ycs = mesh.x, mesh.y, xc, yc
@@ -69,7 +72,7 @@ def impact_dataset(mesh, result, normal: bool) -> xr.Dataset:
     coords = {"x_cell": var(xc, ("x_cell",), "m", "element centre x (model part)"),
               "y_cell": var(yc, ("y_cell",), "m", "element centre y (model part)"),
               "z_cell": depth(zc, "z_cell", "element centre depth below the surface"),
-              "component": labels(K.VOIGT, "component", COMPONENT_LONG_NAME),
+              "component": labels(VOIGT, "component", COMPONENT_LONG_NAME),
               "x_node_full": var(xs, ("x_node_full",), "m", "surface node x (full block)"),
               "y_node_full": var(ys, ("y_node_full",), "m", "surface node y (full block)"),
               "x_cell_full": var(xcs, ("x_cell_full",), "m", "top-layer element centre x (full block)"),
@@ -85,7 +88,8 @@ def impact_dataset(mesh, result, normal: bool) -> xr.Dataset:
 
 
 @peening_task(version="1")
-def single_impact(velocity: xr.Dataset | None = None, *, material: dict, shot: dict, fidelity: dict,
+def single_impact(velocity: xr.Dataset | None = None, *, material: MaterialParams, shot: ShotParams,
+                  fidelity: FidelityParams,
                   angle_deg: float, velocity_m_s: float | None = None, half_width_m: float,
                   thickness_m: float, ctx=None) -> xr.Dataset:
     """One impact; the speed is ``velocity_m_s`` or the upstream ``velocity`` result."""

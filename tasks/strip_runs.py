@@ -17,12 +17,13 @@ import xarray as xr
 
 from ._common import peening_task, scalar
 from ._rev_run import run_rev
+from .params import FidelityParams, LadderParams, MaterialParams, ShotParams
 
 
 @peening_task(version="1")
-def strip_runs(rev: xr.Dataset, *, material: dict, shot: dict, fidelity: dict, angle_deg: float,
-               velocity_m_s: float, sequence: int, seed: int, shot_counts: list | None = None,
-               extend: dict | None = None, ctx=None) -> xr.Dataset:
+def strip_runs(rev: xr.Dataset, *, material: MaterialParams, shot: ShotParams, fidelity: FidelityParams,
+               angle_deg: float, velocity_m_s: float, sequence: int, seed: int, shot_counts: list | None = None,
+               extend: LadderParams | None = None, ctx=None) -> xr.Dataset:
     return run_rev(ctx, material=material, shot=shot, fidelity=fidelity, side_m=scalar(rev, "rev_side_m"),
                    measure_side_m=scalar(rev, "measure_side_m"), thickness_m=scalar(rev, "thickness_m"),
                    angle_deg=angle_deg, velocity_m_s=velocity_m_s, seed=seed, ladder=shot_counts, extend=extend)

@@ -16,15 +16,15 @@ import numpy as np
 import xarray as xr
 
 from peenflow.engine.growth import GrowVerdict
-from peenflow.methods import fit_saturation, sequences_verdict
+from peenflow.methods import fit_saturation
 
-from ._common import MM
 from .arc_height import release
+from .params import SequencesParams, StripParams
 from .saturation import MODELS
 
 
-def sequence_intensity_mm(run: xr.Dataset, fit: str, strip: dict) -> float:
-    """Intensity (mm, eq. 11) of one strip run's own ladder; NaN where its data cannot define
+def sequence_intensity_m(run: xr.Dataset, fit: str, strip: StripParams) -> float:
+    """Intensity (m, eq. 11) of one strip run's own ladder; NaN where its data cannot define
     saturation (as ``saturation`` records such a sequence; the rule counts it as run).
 
     ``run``: one ``strip_runs`` result, ``stress_xx_Pa`` with dims (shots, layer) and ``z_edge_m``.
@@ -38,17 +38,16 @@ def sequence_intensity_mm(run: xr.Dataset, fit: str, strip: dict) -> float:
             ah[k] = release(z_edges, sxx[k], strip)[0]
     ok = np.isfinite(ah)
     try:
-        return float(fit_saturation(counts[ok], ah[ok], MODELS[fit]).intensity / MM)
+        return float(fit_saturation(counts[ok], ah[ok], MODELS[fit]).intensity)
     except ValueError:
         return float("nan")
 
 
-def sequences_rule(*, tolerance_mm: float, n_start: int, n_max: int, fit: str, strip: dict):
+def sequences_rule(params: SequencesParams):
     """The growth rule of the strip runs' ``sequence`` dimension: ``until(runs, coords) -> GrowVerdict``."""
 
     def until(runs: list[xr.Dataset], coords: dict) -> GrowVerdict:
-        intensities = [sequence_intensity_mm(r, fit, strip) for r in runs]
-        v = sequences_verdict(intensities, tolerance_mm, n_min=n_start, n_max=n_max)
+        v = params.verdict([sequence_intensity_m(r, params.fit, params.strip) for r in runs])
         return GrowVerdict(not v.stop, v.reason)
 
     return until

@@ -12,11 +12,13 @@ import xarray as xr
 
 from ._common import peening_task, scalar
 from ._rev_run import run_rev
+from .params import FidelityParams, MaterialParams, ShotParams
 
 
 @peening_task(version="1")
-def target_runs(rev: xr.Dataset, velocity: xr.Dataset, coverage: xr.Dataset, *, material: dict, shot: dict,
-                fidelity: dict, angle_deg: float, sequence: int, seed: int, ctx=None) -> xr.Dataset:
+def target_runs(rev: xr.Dataset, velocity: xr.Dataset, coverage: xr.Dataset, *, material: MaterialParams,
+                shot: ShotParams, fidelity: FidelityParams, angle_deg: float, sequence: int, seed: int,
+                ctx=None) -> xr.Dataset:
     n_c = int(scalar(coverage, "coverage_shots_rounded"))
     ladder = sorted({max(1, math.ceil(n_c / 4)), max(1, math.ceil(n_c / 2)), n_c})
     ds = run_rev(ctx, material=material, shot=shot, fidelity=fidelity, side_m=scalar(rev, "rev_side_m"),

@@ -21,6 +21,7 @@ from peenflow.methods import ControlCurve, ControlCurveFamily
 from peenflow.methods.control_curve import AngleBlend
 
 from ._common import MM, peening_task, var
+from .params import TargetParams
 
 
 class IntensityOutOfRange(ValueError):
@@ -58,17 +59,18 @@ def _check_saturated(control: xr.Dataset, angles, velocities, context: str = "")
 
 
 @peening_task(version="2")
-def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | None,
-                    angle_deg: float, rule: str = "nearest", velocity_m_s: float | None = None,
-                    allow_extrapolated: bool = False, interpolation: str = "pchip") -> xr.Dataset:
-    """The velocity on the control curve (``interpolation``: "pchip" or
+def target_velocity(control: xr.Dataset | None = None, *, target: TargetParams) -> xr.Dataset:
+    """The velocity on the control curve (``target.interpolation``: "pchip" or
     "linear" in velocity, as ``almen.interpolation``) at the target intensity."""
+    angle_deg, rule, velocity_m_s = target.angle_deg, target.rule, target.velocity_m_s
+    allow_extrapolated, interpolation = target.allow_extrapolated, target.interpolation
+    wanted = target.intensity_m
     if velocity_m_s is not None:
         return xr.Dataset({"velocity_m_s": var(velocity_m_s, (), "m s-1", "shot velocity, given in the study")},
                           attrs={"method": "given"})
     curves = []
     for a in control.angle_deg.values:
-        ints = control.intensity_mm.sel(angle_deg=a).values * MM
+        ints = control.intensity_m.sel(angle_deg=a).values
         v = control.velocity_m_s.values.astype(float)
         ok = np.isfinite(ints)
         if ok.sum() < 2:
@@ -78,25 +80,24 @@ def target_velocity(control: xr.Dataset | None = None, *, intensity_mm: float | 
     curve = family.at_angle(angle_deg, "linear" if rule == "interpolate" else "nearest")
     lo, hi = curve.velocity_range
     i_lo, i_hi = sorted(float(x) for x in curve.intensity(np.array([lo, hi])))
-    target = intensity_mm * MM
     blended = isinstance(curve, AngleBlend)
     used = (curve.lower.angle_deg, curve.upper.angle_deg) if blended else (curve.angle_deg,)
     grid = control.velocity_m_s.values.astype(float)
-    if not i_lo <= target <= i_hi:
-        outside = (f"target intensity {intensity_mm:.4g} mm is outside the control curve at {angle_deg} deg, "
+    if not i_lo <= wanted <= i_hi:
+        outside = (f"target intensity {wanted / MM:.4g} mm is outside the control curve at {angle_deg} deg, "
                    f"which spans {i_lo / MM:.4g}-{i_hi / MM:.4g} mm over {lo:g}-{hi:g} m/s")
         if not allow_extrapolated:
             # An extrapolated curve's range says little about the velocities
             # needed: the ladder is the first problem to fix, but say both.
             _check_saturated(control, used, grid, context=f"{outside}; and ")
         raise IntensityOutOfRange(f"{outside}: add velocities to almen.velocities_m_s that bracket it")
-    v = float(curve.velocity(target))
+    v = float(curve.velocity(wanted))
     if not allow_extrapolated:
         bracket = sorted({float(grid[grid <= v].max()), float(grid[grid >= v].min())})
         _check_saturated(control, used, bracket)
     return xr.Dataset(
         {"velocity_m_s": var(v, (), "m s-1", "shot velocity giving the target intensity on the control curve"),
-         "intensity_mm": var(intensity_mm, (), "mm", "target Almen intensity")},
+         "intensity_m": var(wanted, (), "m", "target Almen intensity")},
         attrs={"method": rule, "interpolation": interpolation,
                "control_angles_deg": ", ".join(f"{a:g}" for a in family.angles)},
     )

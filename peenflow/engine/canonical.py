@@ -9,6 +9,9 @@ the same study in any process, on any machine, under any PYTHONHASHSEED:
   integral float is written as an integer (``55.0`` == ``55``);
 * numpy scalars and arrays become Python numbers and lists;
 * NaN and infinities become strings (JSON has no spelling for them);
+* an object with a ``__canonical__()`` method (typed stage parameters) is
+  its canonical form, which must name every field that can change a result
+  (the task is called with the object rebuilt from that form: ``Task``);
 * anything else (objects, sets, paths with machine-specific prefixes) is
   rejected with the parameter's path in the message, so a key can never
   silently depend on an object's ``repr``.
@@ -60,6 +63,8 @@ def canonical_value(value: Any, path: str = "params") -> Any:
         return [canonical_value(v, f"{path}[{i}]") for i, v in enumerate(value)]
     if isinstance(value, np.ndarray):
         return [canonical_value(v, f"{path}[{i}]") for i, v in enumerate(value.tolist())]
+    if callable(getattr(type(value), "__canonical__", None)):
+        return canonical_value(value.__canonical__(), path)
     raise ParameterError(
         f"{path}: value {value!r} of type {type(value).__name__} cannot be a task "
         "parameter (use numbers, strings, booleans, lists or dicts of them)"

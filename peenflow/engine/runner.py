@@ -278,7 +278,7 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
     started = time.time()
     try:
         blas_threads = pin_blas_threads()  # same on a dask worker as here: bit-identical results
-        kwargs = dict(spec.params)
+        kwargs = task.bind(spec.params)
         kwargs.update(_load_upstream(store, spec, ups))
         if task.wants_ctx:
             kwargs["ctx"] = ctx

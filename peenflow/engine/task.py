@@ -17,13 +17,19 @@ returns an :class:`xarray.Dataset`::
   as *stale*;
 * ``uses``: modules/packages whose source also enters the code fingerprint
   (the kernel a task calls), on top of the task's own module and the modules
-  of its own package that it imports (followed transitively).
+  of its own package that it imports (followed transitively);
+* typed parameters: a parameter whose annotation is a class with
+  ``__canonical__()`` and ``from_canonical(value)`` (``X`` or ``X | None``)
+  enters the key as its canonical form and reaches the task rebuilt from
+  it (:meth:`Task.bind`), so the task sees exactly what the key holds.
 """
 
 from __future__ import annotations
 
 import importlib
 import inspect
+import types
+import typing
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -60,6 +66,23 @@ class Task:
     def code_id(self) -> str:
         """What enters the result key for the code: the version if declared."""
         return f"version:{self.version}" if self.version is not None else f"source:{self.source_hash()}"
+
+    def typed_params(self) -> dict:
+        """{parameter name: its typed-parameter class} (module docstring)."""
+        hints = typing.get_type_hints(self.fn)
+        out = {}
+        for name, hint in hints.items():
+            members = typing.get_args(hint) if isinstance(hint, types.UnionType) or \
+                typing.get_origin(hint) is typing.Union else (hint,)
+            for t in members:
+                if isinstance(t, type) and callable(getattr(t, "from_canonical", None)):
+                    out[name] = t
+        return out
+
+    def bind(self, params: dict) -> dict:
+        """The keyword arguments for ``params`` in canonical form: typed parameters rebuilt."""
+        typed = self.typed_params()
+        return {k: (typed[k].from_canonical(v) if k in typed and v is not None else v) for k, v in params.items()}
 
     def __call__(self, *args, **kwargs):
         return self.fn(*args, **kwargs)

@@ -15,7 +15,7 @@ name says otherwise (``angle_deg``, ``*_percent``). One concept per module:
 * :mod:`.control_curve`    -- intensity vs velocity per angle, inverse, angle interpolation
 """
 
-from .arc_height import ALMEN_STRIPS, GAUGE_SPAN, AlmenStrip, StripRelease, arc_height, clamping_force_moment, release_strip
+from .arc_height import StripRelease, clamping_force_moment, release_strip
 from .control_curve import AngleBlend, ControlCurve, ControlCurveFamily
 from .coverage import (
     FULL_COVERAGE_PERCENT,
@@ -48,7 +48,7 @@ from .sequences import SequencesVerdict, sequences_verdict
 from .shot_stream import ShotStream, generate_centres, impingement_direction, landing_points, shot_stream
 
 __all__ = [
-    "ALMEN_STRIPS", "GAUGE_SPAN", "AlmenStrip", "StripRelease", "arc_height", "clamping_force_moment", "release_strip",
+    "StripRelease", "clamping_force_moment", "release_strip",
     "AngleBlend", "ControlCurve", "ControlCurveFamily",
     "FULL_COVERAGE_PERCENT", "AvramiFit", "coverage_curve", "coverage_curves", "coverage_percent",
     "expected_coverage_uniform", "first_cover_index", "fit_avrami", "measuring_grid",

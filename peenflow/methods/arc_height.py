@@ -25,37 +25,8 @@ curvature and the plate (biaxial) stiffening are neglected, as the paper does.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from types import MappingProxyType
 
 from .residual_profile import DepthProfile, _check_within
-
-#: Almen gauge span ``l`` between the measuring balls (SAE J442), m.
-GAUGE_SPAN = 31.75e-3
-
-
-@dataclass(frozen=True)
-class AlmenStrip:
-    """Almen strip geometry (SAE J442, values as quoted in the paper §3.2.1), m.
-
-    The SAE nominal length and width are 76.2 mm and 18.9-19.05 mm; the paper
-    rounds them to 76 × 19 mm. Only the width (which cancels in the arc height)
-    and the thickness enter eqs. (6)-(9).
-    """
-
-    name: str
-    length: float
-    width: float
-    thickness: float
-
-
-ALMEN_STRIPS = MappingProxyType(
-    {
-        "N": AlmenStrip("N", 76e-3, 19e-3, 0.79e-3),
-        "A": AlmenStrip("A", 76e-3, 19e-3, 1.29e-3),
-        "C": AlmenStrip("C", 76e-3, 19e-3, 2.39e-3),
-    }
-)
-
 
 @dataclass(frozen=True, eq=False)  # holds arrays: identity, not element-wise, equality
 class StripRelease:
@@ -98,7 +69,7 @@ def release_strip(
     width: float,
     thickness: float,
     young_modulus: float,
-    span: float = GAUGE_SPAN,
+    span: float,
 ) -> StripRelease:
     """Release the clamped strip: eqs. (6)-(9).
 
@@ -117,14 +88,3 @@ def release_strip(
     curvature = moment / (young_modulus * inertia)
     arc = moment / (2.0 * young_modulus * inertia) * (0.5 * span) ** 2
     return StripRelease(force, moment, released, curvature, arc)
-
-
-def arc_height(
-    profile: DepthProfile,
-    strip: AlmenStrip | str,
-    young_modulus: float,
-    span: float = GAUGE_SPAN,
-) -> float:
-    """Arc height (m) of an Almen strip (``AlmenStrip`` or ``"N"``/``"A"``/``"C"``), eq. (9)."""
-    s = ALMEN_STRIPS[strip] if isinstance(strip, str) else strip
-    return release_strip(profile, s.width, s.thickness, young_modulus, span).arc_height

@@ -303,6 +303,36 @@ class RevGeometry:
         """§4.1: strip REV 6D × 6D (× h), measuring region 2D × 2D."""
         return cls(6.0 * shot_diameter, 2.0 * shot_diameter)
 
+    @classmethod
+    def by_rule(cls, rule: str, shot_diameter: float, d_min: float | None = None, side: float | None = None,
+                measuring_side: float | None = None) -> "RevGeometry":
+        """The REV of a study's rule, m: the one place the rule is written.
+
+        ``"dmin"``: :meth:`from_dmin` (``d_min`` needed); ``"paper"``:
+        :meth:`almen_strip`; ``"explicit"``: the given ``side`` with a
+        measuring region of ``side / 3``. A given ``measuring_side``
+        replaces the rule's.
+        """
+        if rule == "dmin":
+            if d_min is None:
+                raise ValueError("REV rule 'dmin' needs the d_min from a two-shot search")
+            geometry = cls.from_dmin(d_min)
+        elif rule == "paper":
+            geometry = cls.almen_strip(shot_diameter)
+        elif rule == "explicit":
+            if side is None:
+                raise ValueError("REV rule 'explicit' needs the REV side")
+            geometry = cls(side, side / 3.0)
+        else:
+            raise ValueError(f"unknown REV rule {rule!r}; expected 'dmin', 'paper' or 'explicit'")
+        if measuring_side is not None:
+            geometry = cls(geometry.side, measuring_side)
+        # == side: the whole face (periodic lateral faces have no edge to keep away from)
+        if not 0 < geometry.measuring_side <= geometry.side:
+            raise ValueError(f"measuring region {geometry.measuring_side:.4g} m must be > 0 and at most the REV "
+                             f"side {geometry.side:.4g} m")
+        return geometry
+
     @property
     def measuring_region(self) -> tuple[float, float, float, float]:
         """(x0, x1, y0, y1) m of the central measuring square (origin at the REV centre)."""

@@ -37,16 +37,28 @@ class ProfileError(ValueError):
 @dataclass(frozen=True)
 class MeasuredProfile:
     """Measured points, SI: ``depth_m`` (n,) m below the surface, ``stress_Pa``
-    (n,) Pa, ``component`` (n,) "xx" | "yy"; ``sha256`` of the file's bytes."""
+    (n,) Pa, ``component`` (n,) "xx" | "yy"; ``sha256`` of the file's bytes
+    ("" when rebuilt from the stage parameters, which hold the points only).
+
+    A stage parameter as it is (``__canonical__`` / ``from_canonical``, see
+    :mod:`peenflow.engine.task`): the key holds the points, not the file's
+    name or hash, so the same measurements give the same result.
+    """
 
     depth_m: tuple[float, ...]
     stress_Pa: tuple[float, ...]
     component: tuple[str, ...]
-    sha256: str
+    sha256: str = ""
 
-    def as_params(self) -> dict:
-        """The stage parameters (canonical JSON-able, SI)."""
+    def __canonical__(self) -> dict:
+        """The stage parameters (SI): the points."""
         return {"depth_m": list(self.depth_m), "stress_Pa": list(self.stress_Pa), "component": list(self.component)}
+
+    @classmethod
+    def from_canonical(cls, value) -> "MeasuredProfile":
+        if isinstance(value, cls):
+            return value
+        return cls(tuple(value["depth_m"]), tuple(value["stress_Pa"]), tuple(value["component"]))
 
 
 def read_measured_profile(path: Path) -> MeasuredProfile:

@@ -215,26 +215,6 @@ class Almen(ShotScaled):
             )
         return self
 
-    def rev_side_m(self, dmin_m: float | None = None) -> float:
-        """REV side: 3 d_min ("dmin"), 6 D ("paper") or rev_size_mm ("explicit")."""
-        if self.rev_rule == "explicit":
-            return self.rev_size_mm * 1e-3
-        if self.rev_rule == "paper":
-            return 6.0 * self.shot_diameter_m
-        if dmin_m is None:
-            raise ValueError('almen.rev_rule = "dmin": pass the strip d_min (m) from the dmin stage')
-        return 3.0 * dmin_m
-
-    def measure_side_m(self, dmin_m: float | None = None) -> float:
-        """Measuring-region side: d_min ("dmin"), 2 D ("paper"), measure_size_mm or rev / 3."""
-        if self.rev_rule == "explicit":
-            return (self.measure_size_mm or self.rev_size_mm / 3.0) * 1e-3
-        if self.rev_rule == "paper":
-            return 2.0 * self.shot_diameter_m
-        if dmin_m is None:
-            raise ValueError('almen.rev_rule = "dmin": pass the strip d_min (m) from the dmin stage')
-        return dmin_m
-
     @property
     def rev_thickness_m(self) -> float:
         """The strip REV is as thick as the strip (section 4.1)."""
@@ -456,22 +436,6 @@ class Target(ShotScaled):
     def coverage_fraction(self) -> float:
         """coverage_percent / 100 (N_c = coverage_fraction * N_f)."""
         return self.coverage_percent / 100.0
-
-    def rev_side_m(self, dmin_m: float | None = None) -> float:
-        """REV side: rev_size_mm, else 3 d_min (pass the target d_min in m)."""
-        if self.rev_size_mm is not None:
-            return self.rev_size_mm * 1e-3
-        if dmin_m is None:
-            raise ValueError("target.rev_size_mm not given: pass the target d_min (m) from the dmin stage")
-        return 3.0 * dmin_m
-
-    def measure_side_m(self, dmin_m: float | None = None) -> float:
-        """Measuring-region side: measure_size_mm, rev_size_mm / 3, else d_min."""
-        if self.rev_size_mm is not None:
-            return (self.measure_size_mm or self.rev_size_mm / 3.0) * 1e-3
-        if dmin_m is None:
-            raise ValueError("target.rev_size_mm not given: pass the target d_min (m) from the dmin stage")
-        return dmin_m
 
 
 class Seeds(StudyModel):

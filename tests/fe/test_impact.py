@@ -8,10 +8,10 @@ from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import graded_box
 from peenflow.fe.model import Target
 from peenflow.fe.shots import Shots, johnson_plastic, time_to_contact
+from peenflow.testing import SAE1070
 
 R = 0.29e-3
 RHO = 7800.0
-SAE1070 = dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0134, m=0.0)
 
 
 def coarse_target(h=25e-6):

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from peenflow.fe.johnson_cook import Material, material_point
+from peenflow.testing import SAE1070
 
-SAE1070 = dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0134, m=0.0)
 
 
 @pytest.mark.parametrize("rate", [0.5, 1e2, 1e4, 1e6])

@@ -11,10 +11,10 @@ from peenflow.fe.mesh import BoxMesh, graded_axis, graded_box
 from peenflow.fe.model import Model, Target
 from peenflow.fe.relaxation import _forces, _no_shot, relax
 from peenflow.fe.shots import Shots
+from peenflow.testing import SAE1070
 
 R = 0.29e-3
 H = 50e-6
-SAE1070 = dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0134, m=0.0)
 MAT = Material(**SAE1070)
 
 
@@ -215,12 +215,15 @@ def test_window_touching_the_seam_must_span_it():
 def test_task_targets():
     """REV tasks take fidelity.lateral_boundary; impact blocks (quarter/half models) stay symmetric."""
     from tasks import _kernel as K
+    from tasks.params import FidelityParams
 
-    f = {"element_size_m": H, "fine_depth_m": 0.2e-3, "grading_ratio": 1.2, "lateral_boundary": "periodic"}
+    f = FidelityParams(element_size_m=H, fine_depth_m=0.2e-3, grading_ratio=1.2, time_step_safety=0.5,
+                       window_contact_radii=4.0, settle_tolerance=1e-6, relaxation_tolerance=1e-8,
+                       lateral_boundary="periodic")
     rev = K.rev_mesh(f, 24 * H, 0.6e-3)
-    assert K.target(rev, f).lateral == "periodic"
+    assert f.boundary(rev).lateral == "periodic"
     blk = K.impact_block(f, 0.6e-3, 0.6e-3, 0.2e-3, symmetric_x=True, symmetric_y=True)
-    assert K.target(blk, f, impact_block=True).lateral == "symmetric"
+    assert f.boundary(blk, impact_block=True).lateral == "symmetric"
 
 
 def test_shot_beyond_the_mesh_wraps():

@@ -12,9 +12,9 @@ from peenflow.fe.model import Model, Target
 from peenflow.fe.multigrid import ElementMatrices, Multigrid, dot, element_bound, element_matrix, mask_fixed
 from peenflow.fe.relaxation import relax
 from peenflow.fe.shots import Shots
+from peenflow.testing import SAE1070
 
 R = 0.29e-3
-SAE1070 = dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0134, m=0.0)
 
 
 def box(bottom="fixed"):

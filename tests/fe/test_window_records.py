@@ -13,9 +13,9 @@ from peenflow.fe.mesh import BoxMesh, graded_axis, graded_box
 from peenflow.fe.model import Target
 from peenflow.fe.shots import Shots
 from peenflow.fe.state import SHOT_RECORD_FIELDS
+from peenflow.testing import SAE1070
 
 R = 0.29e-3
-SAE1070 = dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0134, m=0.0)
 AL7075 = dict(E=71e9, nu=0.33, density=2810.0, A=434e6, B=303.58e6, n=0.39)
 
 

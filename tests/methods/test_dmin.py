@@ -130,3 +130,18 @@ def test_rev_geometry_matches_paper():
     s = RevGeometry.almen_strip(0.58e-3)  # §4.1: 6D × 6D, 2D × 2D
     assert s.side == pytest.approx(3.48e-3) and s.measuring_side == pytest.approx(1.16e-3)
     assert s.measuring_region == pytest.approx((-0.58e-3, 0.58e-3, -0.58e-3, 0.58e-3))
+
+
+def test_rev_rules_in_one_place():
+    """The study's three REV rules, with a given measuring region replacing the rule's."""
+    D = 0.58e-3
+    assert RevGeometry.by_rule("dmin", D, d_min=1.5e-3) == RevGeometry.from_dmin(1.5e-3)
+    assert RevGeometry.by_rule("paper", D) == RevGeometry.almen_strip(D)
+    assert RevGeometry.by_rule("explicit", D, side=1.2e-3).measuring_side == pytest.approx(0.4e-3)
+    assert RevGeometry.by_rule("explicit", D, side=1.2e-3, measuring_side=0.6e-3).measuring_side == 0.6e-3
+    with pytest.raises(ValueError, match="needs the d_min"):
+        RevGeometry.by_rule("dmin", D)
+    with pytest.raises(ValueError, match="must be smaller than the REV side"):
+        RevGeometry.by_rule("explicit", D, side=1.2e-3, measuring_side=1.2e-3)
+    with pytest.raises(ValueError, match="unknown REV rule"):
+        RevGeometry.by_rule("6D", D)

@@ -7,6 +7,7 @@ import copy
 import pytest
 
 from peenflow.study import Material, load_study, validate_study
+from tasks.params import study_params
 
 DELETE = "__delete__"  # see conftest.set_path
 
@@ -133,13 +134,14 @@ def test_stages_follow_sections(write_study, tmp_path):
     paper_rev = stages(write_study({"target": DELETE, "almen.rev_rule": "paper"}))
     assert "strip_dmin" not in paper_rev and "strip_impact" not in paper_rev
     s = load_study(write_study({"target": DELETE, "almen.rev_rule": "paper"}))
-    assert s.almen.rev_side_m() == pytest.approx(6 * 0.58e-3) and s.almen.measure_side_m() == pytest.approx(2 * 0.58e-3)
+    rev = study_params(s).strip_rev.geometry()
+    assert rev.side == pytest.approx(6 * 0.58e-3) and rev.measuring_side == pytest.approx(2 * 0.58e-3)
     given = write_study({"almen": DELETE, "target.almen_intensity": DELETE, "target.velocity_m_s": 47.0,
                          "target.rev_size_mm": 4.5})
     target_only = stages(given)
     assert "coverage_curve" in target_only and "target_dmin" not in target_only
     assert not any(x.startswith("strip") for x in target_only) and "control_curve" not in target_only
-    assert load_study(given).target.measure_side_m() == pytest.approx(1.5e-3)
+    assert study_params(load_study(given)).target_rev.geometry().measuring_side == pytest.approx(1.5e-3)
 
 
 def test_models_are_frozen(write_study):

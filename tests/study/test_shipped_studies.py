@@ -9,6 +9,7 @@ import pytest
 
 import peenflow.api
 from peenflow.study import load_study, validate_study
+from tasks.params import study_params
 
 STUDIES = Path(__file__).resolve().parents[2] / "studies"
 SHIPPED = ["quickstart.toml", "paper_almen_s230.toml", "paper_al7075.toml"]
@@ -44,8 +45,8 @@ def test_paper_almen_study_matches_section_4():
     assert a.velocities_m_s == (25.0, 35.0, 45.0, 55.0)
     assert a.shot_counts == (10, 20, 40, 80, 160, 320, 480)
     assert a.sequences == 6 and a.rev_rule == "dmin"
-    assert a.rev_side_m(dmin_m=2 * 0.58e-3) == pytest.approx(6 * 0.58e-3)
-    assert a.measure_side_m(dmin_m=2 * 0.58e-3) == pytest.approx(2 * 0.58e-3)
+    rev = study_params(s).strip_rev.geometry(d_min=2 * 0.58e-3)
+    assert rev.side == pytest.approx(6 * 0.58e-3) and rev.measuring_side == pytest.approx(2 * 0.58e-3)
     assert s.dmin.strip_velocity_m_s == 55.0 and s.dmin.strip_angles_deg == (45.0, 90.0)
     assert s.dmin.threshold == 0.05
     assert s.fidelity.preset == "paper" and s.fidelity.element_size_m == pytest.approx(25e-6)
@@ -67,7 +68,7 @@ def test_paper_al7075_study_matches_section_5():
     assert t.angle_deg == 65.0 and t.coverage_fraction == 2.0 and t.sequences == 2
     assert t.intensity_mm == 0.30 and t.intensity_strip == "A"
     assert {"target_velocity", "control_curve"} <= _stages("paper_al7075.toml")
-    assert t.rev_side_m(dmin_m=1.5e-3) == pytest.approx(4.5e-3)
+    assert study_params(s).target_rev.geometry(d_min=1.5e-3).side == pytest.approx(4.5e-3)
     assert t.measured_profile_csv == ""
     assert s.coverage.full_coverage_percent == 98.0
 
@@ -80,7 +81,8 @@ def test_quickstart_is_coarse_and_runs_the_whole_chain():
     assert s.fidelity.preset == "coarse" and 50 <= s.fidelity.element_size_um <= 60
     assert len(s.almen.velocities_m_s) >= 2  # a control curve needs two velocities to invert
     assert len(s.almen.shot_counts) >= 3  # eq. (10) has three parameters
-    assert 0 < s.almen.measure_side_m() < s.almen.rev_side_m()
+    rev = study_params(s).strip_rev.geometry()
+    assert 0 < rev.measuring_side < rev.side
     assert s.target.intensity_mm is not None and s.target.velocity_m_s is None  # velocity from the curve
     assert s.target.material.name == "Al7075-T73"
     assert math.isfinite(s.target.material.dilatational_wave_speed_m_s)

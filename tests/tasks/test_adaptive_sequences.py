@@ -63,7 +63,7 @@ def test_each_point_has_the_sequences_the_rule_asks_for_no_more_no_fewer(adaptiv
     assert len(sats) == 1
     for it in sats:
         ds = store.open("saturation", it.key)
-        per = np.asarray(ds.sequence_intensity_mm).ravel()
+        per = np.asarray(ds.sequence_intensity_m).ravel() / 1e-3  # mm, as the tolerance
         n = per.size
         assert START <= n <= CAP
         runs = [i for i in items if i.node.stage == "strip_runs"
@@ -74,7 +74,7 @@ def test_each_point_has_the_sequences_the_rule_asks_for_no_more_no_fewer(adaptiv
         for k in range(START, n):  # and not before
             assert not sequences_verdict(per[:k], TOL_MM, n_min=START, n_max=CAP).stop, (k, per)
         assert int(ds.sequence_tolerance_met.item()) == int(final.met)
-        assert ds.intensity_standard_error_bound_mm.item() == pytest.approx(final.bound, rel=1e-12)
+        assert ds.intensity_standard_error_bound_m.item() / 1e-3 == pytest.approx(final.bound, rel=1e-9)
         assert "sequences" in ds.attrs["sequences_rule"]
 
 

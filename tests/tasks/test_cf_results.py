@@ -14,6 +14,7 @@ import xarray as xr
 
 import peenflow
 from peenflow.engine.conventions import cf_problems, units_ok
+from peenflow.testing import assert_cf_variables
 
 STUB_TABLES = Path(__file__).resolve().parents[3] / "shared" / "cf-stub-tables"
 #: standard names we use that are in the CF table; the offline stub table is
@@ -44,6 +45,13 @@ def test_every_result_follows_the_conventions(micro):
         with netCDF4.Dataset(f) as nc:  # on disk: no variable-length strings at all
             for name, v in nc.variables.items():
                 assert v.dtype is not str, f"{f.name}: {name} is a variable-length string"
+
+
+def test_the_store_is_si(micro):
+    """Lengths in m, stresses in Pa, speeds in m s-1 (no mm, um or MPa): the display units are the edges' job."""
+    for f in result_files(micro):
+        with xr.open_dataset(f) as ds:
+            assert_cf_variables(ds, si=True)
 
 
 def test_depth_is_a_downward_coordinate_and_sweep_values_are_dimensions(micro):

@@ -33,12 +33,13 @@ def test_a_run_ends_with_the_studys_headline_numbers(micro):
     cov = peenflow.open_result(micro, "coverage_curve")
     assert _row(head, "N_f (98 % coverage)") == f"{float(cov.full_coverage_shots):.0f} shots"
     prof = peenflow.open_result(micro, "residual_profile")
-    assert _row(head, "surface sigma_xx") == f"{float(prof.stress_xx_mean_MPa[0]):.0f} MPa"
-    k = int(np.argmin(prof.stress_xx_mean_MPa.values))
-    assert _row(head, "peak sigma_xx") == f"{float(prof.stress_xx_mean_MPa[k]):.0f} MPa"
+    assert _row(head, "surface sigma_xx") == f"{float(prof.stress_xx_mean_Pa[0]) / 1e6:.0f} MPa"
+    k = int(np.argmin(prof.stress_xx_mean_Pa.values))
+    assert _row(head, "peak sigma_xx") == f"{float(prof.stress_xx_mean_Pa[k]) / 1e6:.0f} MPa"
     assert _row(head, "shot velocity") == "45.0 m/s"  # micro gives the target velocity
     ctrl = peenflow.open_result(micro, "control_curve")
-    assert _row(head, "Almen intensity, 90 deg, 55 m/s") == f"{float(ctrl.intensity_mm.sel(angle_deg=90.0, velocity_m_s=55.0)):.3f} mm"
+    intensity_mm = float(ctrl.intensity_m.sel(angle_deg=90.0, velocity_m_s=55.0)) / 1e-3
+    assert _row(head, "Almen intensity, 90 deg, 55 m/s") == f"{intensity_mm:.3f} mm"
     dent = peenflow.open_result(micro, "target_indentation")
     assert f"{float(dent.dent_semi_axis_along_m) * 1e3:.3f}" in _row(head, "target dent")
 
@@ -51,9 +52,9 @@ def test_show_prints_full_values_and_takes_every_stage_and_task_name(micro, caps
         assert proc.stdout.startswith(f"stage {stage}\n") and "files:" in proc.stdout
     ctrl = peenflow.open_result(micro, "control_curve")
     out = cli("show", micro, "control_curve", capsys=capsys).stdout
-    for v in ctrl.intensity_mm.values.ravel():
+    for v in ctrl.intensity_m.values.ravel():
         assert repr(float(v)) in out  # every digit, not "0.3601 ..."
-    assert "[mm]  Almen intensity" in out
+    assert "[m]  Almen intensity" in out  # the store holds SI
     # a task name a single stage runs stands for that stage; an ambiguous one is refused by name
     assert cli("show", micro, "single_impact", capsys=capsys).stdout.startswith("stage target_impact\n")
     proc = cli("show", micro, "rev_size", capsys=capsys)

@@ -15,7 +15,7 @@ from peenflow.methods import doubling_ladder, ladder_verdict
 from peenflow.study import load_study
 from tasks._rev_run import run_rev
 from tasks.arc_height import release
-from tasks.pipeline import fidelity_params, material_params
+from tasks.params import LadderParams, study_params
 
 from .test_limits import _same, _StopAfter
 
@@ -25,20 +25,14 @@ HERE = Path(__file__).parent
 @pytest.fixture(scope="module")
 def strip():
     s = load_study(HERE / "micro.toml")
-    st = s.almen.strip
-    shot = {"radius_m": s.shot.radius_m, "density_kg_m3": s.shot.density_kg_m3, "friction": 0.2}
-    params = {"strip_width_m": st.width_m, "strip_thickness_m": st.thickness_m,
-              "youngs_modulus_Pa": st.material.youngs_modulus_Pa, "gauge_span_m": st.gauge_span_m}
-    return s, shot, params
+    return s, study_params(s), study_params(s).strip
 
 
 def _run(strip, ctx, cap):
-    s, shot, params = strip
-    st = s.almen.strip
-    return run_rev(ctx, material=material_params(st.material), shot=shot, fidelity=fidelity_params(s.fidelity),
-                   side_m=1.2e-3, measure_side_m=0.4e-3, thickness_m=st.thickness_m, angle_deg=90.0,
-                   velocity_m_s=55.0, seed=11, ladder=[],
-                   extend={"first_shots": 3, "max_shots": cap, "fit": "paper", "strip": params})
+    s, p, params = strip
+    return run_rev(ctx, material=p.strip_material, shot=p.shot, fidelity=p.fidelity,
+                   side_m=1.2e-3, measure_side_m=0.4e-3, thickness_m=params.thickness_m, angle_deg=90.0,
+                   velocity_m_s=55.0, seed=11, ladder=[], extend=LadderParams(3, cap, "paper", params))
 
 
 @pytest.fixture(scope="module")
@@ -108,7 +102,7 @@ def test_a_micro_study_with_an_auto_ladder_saturates_every_point_inside_its_data
     runs = peenflow.open_result(study, "strip_runs")
     assert (runs.ladder_saturated.values == 1).all()
     T = runs.ladder_saturation_shots.values
-    arc = peenflow.open_result(study, "arc_height").arc_height_mm
+    arc = peenflow.open_result(study, "arc_height").arc_height_m
     reached = np.isfinite(arc.values)
     # each sequence's last rung is at >= 2T of its own fit, T not below its first rung
     last = (arc.shots.values * reached).max(axis=-1)

@@ -20,7 +20,8 @@ from peenflow.fe.safety import _MESSAGES
 from peenflow.study import load_study, validate_study
 from tasks import _kernel as K
 from tasks._rev_run import run_rev
-from tasks.pipeline import IMPACT_BLOCK_D, fidelity_params, material_params
+from tasks.params import study_params
+from tasks.pipeline import IMPACT_BLOCK_D
 from tasks.single_impact import run_single_impact
 
 HERE = Path(__file__).parent
@@ -29,8 +30,8 @@ HERE = Path(__file__).parent
 @pytest.fixture(scope="module")
 def micro():
     s = load_study(HERE / "micro.toml")
-    shot = {"radius_m": s.shot.radius_m, "density_kg_m3": s.shot.density_kg_m3, "friction": 0.2}
-    return s, shot, fidelity_params(s.fidelity), material_params(s.target.material)
+    p = study_params(s)
+    return s, p.shot, p.fidelity, p.target_material
 
 
 @pytest.mark.parametrize("speed", [1.0, 2.0, 5.0])

@@ -17,7 +17,9 @@ import pytest
 from peenflow.study import load_study
 from tasks._rev_run import run_rev
 from tasks.arc_height import release
-from tasks.pipeline import fidelity_params, material_params
+from dataclasses import replace
+
+from tasks.params import study_params
 
 HERE = Path(__file__).parent
 SIDE, CENTRE, SEEDS, LADDER = 1.2e-3, 0.4e-3, range(1, 7), [12, 48]
@@ -26,15 +28,13 @@ SIDE, CENTRE, SEEDS, LADDER = 1.2e-3, 0.4e-3, range(1, 7), [12, 48]
 def _arc_heights(lateral: str, measure_side: float) -> np.ndarray:
     """(sequence, rung) arc heights, m, of the micro strip REV with the given lateral faces."""
     s = load_study(HERE / "micro.toml")
-    st = s.almen.strip
-    strip = {"strip_width_m": st.width_m, "strip_thickness_m": st.thickness_m,
-             "youngs_modulus_Pa": st.material.youngs_modulus_Pa, "gauge_span_m": st.gauge_span_m}
-    shot = {"radius_m": s.shot.radius_m, "density_kg_m3": s.shot.density_kg_m3, "friction": 0.2}
-    fid = {**fidelity_params(s.fidelity), "lateral_boundary": lateral}
+    p = study_params(s)
+    strip = p.strip
+    fid = replace(p.fidelity, lateral_boundary=lateral)
     out = []
     for seed in SEEDS:
-        r = run_rev(None, material=material_params(st.material), shot=shot, fidelity=fid, side_m=SIDE,
-                    measure_side_m=measure_side, thickness_m=st.thickness_m, angle_deg=90.0, velocity_m_s=55.0,
+        r = run_rev(None, material=p.strip_material, shot=p.shot, fidelity=fid, side_m=SIDE,
+                    measure_side_m=measure_side, thickness_m=strip.thickness_m, angle_deg=90.0, velocity_m_s=55.0,
                     seed=seed, ladder=LADDER)
         out.append([release(r.z_edge_m.values, r.stress_xx_Pa.values[k], strip)[0] for k in range(len(LADDER))])
     return np.array(out)

@@ -23,7 +23,7 @@ def peenflow_cli(*args, check=True):
 
 
 def test_strip_arc_height_grows_with_shots_and_velocity(micro):
-    arc = peenflow.open_result(micro, "arc_height").arc_height_mm.isel(angle_deg=0, sequence=0)
+    arc = peenflow.open_result(micro, "arc_height").arc_height_m.isel(angle_deg=0, sequence=0)
     for v in arc.velocity_m_s.values:
         ah = arc.sel(velocity_m_s=v).values
         assert np.all(ah > 0) and np.all(np.diff(ah) > 0), ah  # the strip bends more with every doubling
@@ -37,7 +37,7 @@ def test_strip_runs_are_compressive_at_the_surface_and_release_is_self_equilibra
     runs = peenflow.open_result(micro, "strip_runs").isel(angle_deg=0, sequence=0).sel(velocity_m_s=55.0)
     sxx = runs.stress_xx_Pa.isel(shots=-1).values
     assert sxx[0] < -100e6  # peened surface in compression
-    rel = release_strip(DepthProfile(runs.z_edge_m.values, sxx), 19e-3, 1.29e-3, 205e9)
+    rel = release_strip(DepthProfile(runs.z_edge_m.values, sxx), 19e-3, 1.29e-3, 205e9, 31.75e-3)
     released = rel.released
     eq = equilibrium_residual(released, 1.29e-3)
     assert eq.relative_force < 1e-9 and eq.relative_moment < 1e-9  # eq. (8) leaves no net force or moment
@@ -71,7 +71,7 @@ def test_target_chain_dent_coverage_and_profile(micro):
     crossing = float(np.interp(98.0, mean, cov.shots.values))
     assert abs(n_f - crossing) < 0.25 * crossing
     prof = peenflow.open_result(micro, "residual_profile")
-    assert float(prof.stress_xx_mean_MPa[0]) < -50  # compressive at the surface
+    assert float(prof.stress_xx_mean_Pa[0]) < -50e6  # compressive at the surface
 
 
 def test_free_part_release_is_self_equilibrated_and_bows_the_peened_face_convex(micro):
@@ -84,9 +84,9 @@ def test_free_part_release_is_self_equilibrated_and_bows_the_peened_face_convex(
     for c in ("xx", "yy"):
         assert float(prof[f"free_relative_force_{c}"]) < 1e-9
         assert float(prof[f"free_relative_moment_{c}"]) < 1e-9
-        change = (prof[f"stress_{c}_mean_MPa"] - prof[f"stress_{c}_free_mean_MPa"]).values
+        change = (prof[f"stress_{c}_mean_Pa"] - prof[f"stress_{c}_free_mean_Pa"]).values
         line = np.polyval(np.polyfit(z, change, 1), z)
-        assert np.max(np.abs(change - line)) < 1e-9 * np.max(np.abs(prof[f"stress_{c}_mean_MPa"].values))
+        assert np.max(np.abs(change - line)) < 1e-9 * np.max(np.abs(prof[f"stress_{c}_mean_Pa"].values))
         assert float(prof[f"bow_curvature_{c}_1_per_m"]) > 0
 
 
@@ -191,14 +191,14 @@ def test_measured_profile_from_the_template_through_run(micro):
     assert out.count("+ computed") == 1  # only the comparison: everything upstream is the micro study's
     prof = peenflow.open_result(study, "residual_profile")
     np.testing.assert_allclose(prof.measured_depth_m.values, [p[0] * 1e-3 for p in points], rtol=1e-12)
-    np.testing.assert_allclose(prof.measured_stress_MPa.values, [p[1] for p in points], rtol=1e-12)
+    np.testing.assert_allclose(prof.measured_stress_Pa.values, [p[1] * 1e6 for p in points], rtol=1e-12)
     assert list(prof.measured_component.values) == [0, 0, 0, 1]
     z = prof.depth_m.values
-    ours = [np.interp(d * 1e-3, z, prof[f"stress_{c}_mean_MPa"].values) for d, _, c in points]
-    np.testing.assert_allclose(prof.predicted_at_measured_MPa.values, ours, rtol=1e-12)
-    rms = np.sqrt(np.mean((np.array(ours) - np.array([p[1] for p in points])) ** 2))
-    assert float(prof.rms_difference_MPa) == pytest.approx(rms, rel=1e-12)
-    assert float(prof.measured_peak_compressive_MPa) == -380.0
+    ours = [np.interp(d * 1e-3, z, prof[f"stress_{c}_mean_Pa"].values) for d, _, c in points]
+    np.testing.assert_allclose(prof.predicted_at_measured_Pa.values, ours, rtol=1e-12)
+    rms = np.sqrt(np.mean((np.array(ours) - np.array([p[1] * 1e6 for p in points])) ** 2))
+    assert float(prof.rms_difference_Pa) == pytest.approx(rms, rel=1e-12)
+    assert float(prof.measured_peak_compressive_Pa) == -380e6
     from tasks.pipeline import report_dir
 
     assert (report_dir(peenflow.api.open_store(study), study) / "residual_stress.png").stat().st_size > 0

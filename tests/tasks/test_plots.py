@@ -11,14 +11,15 @@ def test_saturation_figure_survives_a_failed_fit(tmp_path, monkeypatch):
     # failed with "cannot saturate", so the partial stage result has no 30 m/s row)
     shots = np.array([3, 6, 12, 24])
     arc = xr.Dataset(
-        {"arc_height_mm": (("angle_deg", "velocity_m_s", "sequence", "shots"),
-                           np.array([[[[0.05, 0.09, 0.15, 0.24]], [[0.10, 0.16, 0.21, 0.24]]]]))},
+        {"arc_height_m": (("angle_deg", "velocity_m_s", "sequence", "shots"),
+                          1e-3 * np.array([[[[0.05, 0.09, 0.15, 0.24]], [[0.10, 0.16, 0.21, 0.24]]]]))},
         coords={"angle_deg": [90.0], "velocity_m_s": [30.0, 55.0], "sequence": [0], "shots": shots})
     fine = np.geomspace(3, 24, 20)
     sat = xr.Dataset(
-        {"fit_arc_height_mm": (("angle_deg", "velocity_m_s", "shots_fine"), 0.25 * (1 - np.exp(-fine / 8))[None, None]),
+        {"fit_arc_height_m": (("angle_deg", "velocity_m_s", "shots_fine"),
+                              0.25e-3 * (1 - np.exp(-fine / 8))[None, None]),
          "saturation_shots": (("angle_deg", "velocity_m_s"), [[14.0]]),
-         "intensity_mm": (("angle_deg", "velocity_m_s"), [[0.22]])},
+         "intensity_m": (("angle_deg", "velocity_m_s"), [[0.22e-3]])},
         coords={"angle_deg": [90.0], "velocity_m_s": [55.0], "shots_fine": fine})
     results = {"arc_height": arc, "saturation": sat}
     monkeypatch.setattr(plots, "_result", lambda graph, store, stage: results.get(stage))
@@ -34,14 +35,14 @@ def test_residual_stress_figure_says_what_it_shows(tmp_path, monkeypatch):
     import matplotlib.pyplot as plt
 
     z = np.array([0.03, 0.09, 0.15, 0.21, 0.27, 0.33, 0.39]) * 1e-3
-    sxx = np.array([-422.0, -440.0, -450.0, -381.0, -233.0, -49.0, -2.4])
+    sxx = np.array([-422.0, -440.0, -450.0, -381.0, -233.0, -49.0, -2.4]) * 1e6
     prof = xr.Dataset(
-        {"stress_xx_mean_MPa": ("layer", sxx), "stress_yy_mean_MPa": ("layer", sxx + 3),
-         "stress_xx_spread_MPa": ("layer", np.zeros(7)), "stress_yy_spread_MPa": ("layer", np.zeros(7)),
-         "stress_xx_MPa": (("sequence", "layer"), sxx[None]),
-         "peak_compressive_xx_MPa": ((), -450.0), "peak_compressive_xx_depth_m": ((), 0.15e-3)},
+        {"stress_xx_mean_Pa": ("layer", sxx), "stress_yy_mean_Pa": ("layer", sxx + 3e6),
+         "stress_xx_spread_Pa": ("layer", np.zeros(7)), "stress_yy_spread_Pa": ("layer", np.zeros(7)),
+         "stress_xx_Pa": (("sequence", "layer"), sxx[None]),
+         "peak_compressive_xx_Pa": ((), -450e6), "peak_compressive_xx_depth_m": ((), 0.15e-3)},
         coords={"depth_m": ("layer", z), "sequence": [0]})
-    tv = xr.Dataset({"velocity_m_s": ((), 47.2), "intensity_mm": ((), 0.4)})
+    tv = xr.Dataset({"velocity_m_s": ((), 47.2), "intensity_m": ((), 0.4e-3)})
     results = {"residual_profile": prof, "target_velocity": tv}
     monkeypatch.setattr(plots, "_result", lambda graph, store, stage: results.get(stage))
     figures = []

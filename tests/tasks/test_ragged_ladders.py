@@ -8,9 +8,10 @@ import xarray as xr
 from peenflow.engine.combine import combine_points
 from peenflow.methods.saturation import eq10_saturation_x
 from tasks.arc_height import arc_height, release
+from tasks.params import StripParams
 from tasks.saturation import saturation
 
-STRIP = {"strip_width_m": 19e-3, "strip_thickness_m": 1.29e-3, "youngs_modulus_Pa": 200e9, "gauge_span_m": 31.75e-3}
+STRIP = StripParams(width_m=19e-3, thickness_m=1.29e-3, youngs_modulus_Pa=200e9, gauge_span_m=31.75e-3)
 B, D, P = -0.3e-3 * 60**0.8, 60.0, 0.8
 
 
@@ -33,15 +34,15 @@ def test_ragged_ladders_combine_padded_and_give_the_exact_intensity():
     long, short = [10, 20, 40, 80, 160, 320, 640], [10, 20, 40, 80, 160]
     runs = combine_points([_run(long, edges, shape), _run(short, edges, shape)],
                           [{"sequence": 0}, {"sequence": 1}], ["sequence"])
-    arc = arc_height(runs, **STRIP)
-    ah = arc.arc_height_mm.transpose("sequence", "shots").values
+    arc = arc_height(runs, strip=STRIP)
+    ah = arc.arc_height_m.transpose("sequence", "shots").values
     assert np.isnan(ah[1, 5:]).all() and np.isfinite(ah[1, :5]).all() and np.isfinite(ah[0]).all()
     unit = release(edges, shape, STRIP)[0]
-    np.testing.assert_allclose(ah[0] * 1e-3, _growth(long) * unit, rtol=1e-12)
-    sat = saturation(arc)
+    np.testing.assert_allclose(ah[0], _growth(long) * unit, rtol=1e-12)
+    sat = saturation(arc, fit="paper")
     T = D * eq10_saturation_x(P)
     assert float(sat.saturation_shots) == pytest.approx(T, rel=1e-5)
-    assert float(sat.intensity_mm) * 1e-3 == pytest.approx(_growth(T) * unit, rel=1e-5)
+    assert float(sat.intensity_m) == pytest.approx(_growth(T) * unit, rel=1e-5)
     assert int(sat.intensity_extrapolated) == 0
     # each sequence's own fit: both find T (noiseless), only the long ladder (to 640) brackets T = 380
     np.testing.assert_allclose(sat.sequence_saturation_shots.values, T, rtol=1e-4)

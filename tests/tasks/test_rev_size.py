@@ -10,6 +10,7 @@ import pytest
 
 from peenflow.api import load_study_graph
 from peenflow.engine import DirectoryStore, plan
+from tasks.params import RevParams
 from tasks.rev_size import rev_size
 
 HERE = Path(__file__).parent
@@ -17,18 +18,17 @@ D = 0.58e-3
 
 
 def test_rules_give_the_papers_sides():
-    paper = rev_size.fn(rule="paper", thickness_m=1.29e-3, shot_diameter_m=D)
+    paper = rev_size.fn(rev=RevParams("paper", 1.29e-3, D, None, None))
     assert float(paper.rev_side_m) == pytest.approx(6 * D) and float(paper.measure_side_m) == pytest.approx(2 * D)
-    explicit = rev_size.fn(rule="explicit", thickness_m=1.29e-3, shot_diameter_m=D, side_m=1.8e-3)
+    explicit = rev_size.fn(rev=RevParams("explicit", 1.29e-3, D, 1.8e-3, None))
     assert float(explicit.measure_side_m) == pytest.approx(0.6e-3)  # a third by default
 
 
 def test_the_whole_face_is_a_valid_measuring_region_and_more_is_refused():
-    whole = rev_size.fn(rule="explicit", thickness_m=1.29e-3, shot_diameter_m=D, side_m=1.2e-3,
-                        measure_side_m=1.2e-3)
+    whole = rev_size.fn(rev=RevParams("explicit", 1.29e-3, D, 1.2e-3, 1.2e-3))
     assert float(whole.measure_side_m) == float(whole.rev_side_m) == pytest.approx(1.2e-3)
     with pytest.raises(ValueError, match="at most the REV side"):
-        rev_size.fn(rule="explicit", thickness_m=1.29e-3, shot_diameter_m=D, side_m=1.2e-3, measure_side_m=1.3e-3)
+        rev_size.fn(rev=RevParams("explicit", 1.29e-3, D, 1.2e-3, 1.3e-3))
 
 
 def test_a_periodic_study_measuring_the_whole_face_runs_its_rev_stage(tmp_path):

@@ -11,7 +11,7 @@ import pytest
 
 import peenflow
 from peenflow.api import load_study_graph
-from tasks.rev_thickness import _column_profile
+from tasks.rev_thickness import _column_profile, rev_thickness
 from tasks.single_impact import run_single_impact
 
 HERE = Path(__file__).parent
@@ -50,7 +50,7 @@ def test_near_surface_stresses_converge_as_the_held_bottom_moves_down(thick_part
     at the plastic zone changes them by well over the 2 % the check accepts, so
     the check can fail, and 4 d_p (its first candidate) is within it."""
     graph = load_study_graph(thick_part)
-    p = graph.stage_nodes("target_rev_thickness")[0].params
+    p = rev_thickness.bind(graph.stage_nodes("target_rev_thickness")[0].params)  # the stage's typed parameters
     radius = float(peenflow.open_result(thick_part, "target_indentation").dent_semi_axis_along_m)
     d_p = float(peenflow.open_result(thick_part, "target_rev_thickness").plastic_depth_m)
     profiles = {}

@@ -67,7 +67,7 @@ def test_arc_height_saturates_on_a_small_strip_rev(tmp_path):
         "element_size_um = 60.0": "element_size_um = 100.0"})
     _run(study, "saturation")
     sat = peenflow.open_result(study, "saturation").squeeze()
-    h = sat.mean_arc_height_mm.values
+    h = sat.mean_arc_height_m.values
     n = sat.shots.values
     assert np.all(h > 0)
     assert h[1] > 1.5 * h[0]  # the first doubling adds more than half

@@ -1,4 +1,5 @@
-"""Stage ``dmin``: the smallest distance at which two impacts do not interact (paper §3.1, eq. 4).
+"""Stages ``strip_dmin`` and ``target_dmin`` (task ``dmin``): the smallest distance at which two
+impacts do not interact (paper §3.1, eq. 4).
 
 Two shots land at (+-d/2, 0) on a plate of the target material.  Their
 eq. (4) regions (top-surface von Mises residual >= 5 % of its maximum) are
@@ -25,27 +26,27 @@ from peenflow.methods import (bracket_from_radius, find_dmin, regions_overlap, s
 
 from . import _kernel as K
 from ._common import peening_task, var
+from .params import DminParams, FidelityParams, MaterialParams, ShotParams
 
 
-def two_shot_surface(material, shot, fidelity, speed, angle_deg, d, half_width, thickness, threads):
+def two_shot_surface(material: MaterialParams, shot: ShotParams, fidelity: FidelityParams, speed, angle_deg, d,
+                     half_width, thickness, threads):
     """(x_cell (n,), y_cell (m,), von Mises (n, m)) of the top layer, full surface."""
     normal = angle_deg == 90.0
     mesh = K.impact_block(fidelity, half_width, thickness, fine_half=0.5 * d + 0.3 * half_width,
                           symmetric_x=normal, symmetric_y=True)
     if normal:
-        c, v = K.aimed_shot(shot, speed, angle_deg, (0.5 * d, 0.0))
+        c, v = shot.aimed(speed, angle_deg, (0.5 * d, 0.0))
         centres, velocities = [c], [v]
     else:
-        c1, v1 = K.aimed_shot(shot, speed, angle_deg, (-0.5 * d, 0.0))
-        c2, v2 = K.aimed_shot(shot, speed, angle_deg, (0.5 * d, 0.0))
+        c1, v1 = shot.aimed(speed, angle_deg, (-0.5 * d, 0.0))
+        c2, v2 = shot.aimed(speed, angle_deg, (0.5 * d, 0.0))
         centres, velocities = [c1, c2], [v1, v2]
-    mat = K.kernel_material(material)
-    res = K.run_impacts(K.target(mesh, fidelity, impact_block=True), mat, K.make_shots(shot, centres, velocities),
-                        K.kernel_options(fidelity, shot, threads))
+    res = K.run_impacts(fidelity.boundary(mesh, impact_block=True), material.to_kernel(),
+                        shot.shots(centres, velocities), fidelity.options(shot, threads))
     stress, _ = K.grid_fields(mesh, res.stress, res.eps_p)
     vm = K.von_mises(stress[0]).T
-    xc = 0.5 * (mesh.x[1:] + mesh.x[:-1])
-    yc = 0.5 * (mesh.y[1:] + mesh.y[:-1])
+    xc, yc, _ = K.cell_centres(mesh)
     vm, yc = K.mirror_cells(vm, 1), np.concatenate([-yc[::-1], yc])
     if normal:
         vm, xc = K.mirror_cells(vm, 0), np.concatenate([-xc[::-1], xc])
@@ -53,11 +54,12 @@ def two_shot_surface(material, shot, fidelity, speed, angle_deg, d, half_width, 
 
 
 @peening_task(version="1")
-def dmin(impact: xr.Dataset, *, material: dict, shot: dict, fidelity: dict, angle_deg: float,
-         thickness_m: float, threshold: float, resolution_m: float,
-         min_distance_m: float, max_distance_m: float, method: str = "bisection", ctx=None) -> xr.Dataset:
+def dmin(impact: xr.Dataset, *, material: MaterialParams, shot: ShotParams, fidelity: FidelityParams,
+         angle_deg: float, thickness_m: float, search: DminParams, ctx=None) -> xr.Dataset:
     """d_min at the single impact's velocity and angle (read from ``impact``), by
-    bisection or linear scan (``method``)."""
+    bisection or linear scan (``search.method``)."""
+    threshold, resolution_m = search.threshold, search.resolution_m
+    min_distance_m, max_distance_m, method = search.min_distance_m, search.max_distance_m, search.method
     velocity_m_s = float(impact.attrs["velocity_m_s"])
     radius = single_impact_region_radius(impact.x_cell_full.values, impact.y_cell_full.values,
                                          impact.surface_von_mises_Pa.values, (0.0, 0.0), threshold)
@@ -89,16 +91,16 @@ def dmin(impact: xr.Dataset, *, material: dict, shot: dict, fidelity: dict, angl
         return done[key]
 
     if method == "scan":
-        search = scan_dmin(overlaps, lower, upper, resolution_m, floor=min_distance_m, ceiling=max_distance_m)
+        found = scan_dmin(overlaps, lower, upper, resolution_m, floor=min_distance_m, ceiling=max_distance_m)
     else:
-        search = find_dmin(overlaps, lower, upper, resolution_m, floor=min_distance_m)
+        found = find_dmin(overlaps, lower, upper, resolution_m, floor=min_distance_m)
     runs = sorted(done)
     return xr.Dataset(
         {
-            "d_min_m": var(search.d_min, (), "m", "smallest separation without interaction (eq. 4)"),
-            "resolution_m": var(search.resolution, (), "m", "d_min is within this above the true value"),
-            "bracket_lower_m": var(search.lower, (), "m", "lower end of the final bisection bracket"),
-            "bracket_upper_m": var(search.upper, (), "m", "upper end of the final bisection bracket"),
+            "d_min_m": var(found.d_min, (), "m", "smallest separation without interaction (eq. 4)"),
+            "resolution_m": var(found.resolution, (), "m", "d_min is within this above the true value"),
+            "bracket_lower_m": var(found.lower, (), "m", "lower end of the final bisection bracket"),
+            "bracket_upper_m": var(found.upper, (), "m", "upper end of the final bisection bracket"),
             "single_region_radius_m": var(radius, (), "m", "eq. (4) region radius of one impact"),
             "overlap": var(np.array([int(done[d]) for d in runs]), ("run",), "1", "1 if the regions touch",
                            flag_values=np.array([0, 1]), flag_meanings="separate touching"),

@@ -1,0 +1,413 @@
+"""Typed stage parameters: the one translation from a validated study to the stages and the kernel.
+
+A study file holds values in the units its users think in (mm, um, GPa,
+MPa); the stages and the FE/DEM kernel work in SI.  This module is the only
+place that converts: :func:`study_params` reads a validated
+:class:`peenflow.study.Study` once into frozen dataclasses in SI (m, Pa,
+kg m-3, m s-1, s), and each dataclass has
+
+* one canonical form, ``__canonical__()`` -- every field, by its own name --
+  which is what the engine hashes into the result key (so a key follows
+  every field, and nothing outside the key reaches a stage: the engine
+  calls the stage with the parameters rebuilt from that canonical form by
+  ``from_canonical``, see :mod:`peenflow.engine.task`);
+* where the kernel needs one, one conversion to the kernel's object
+  (:meth:`MaterialParams.to_kernel` -> :class:`peenflow.fe.johnson_cook.Material`,
+  :meth:`FidelityParams.options` -> :class:`peenflow.fe.impact.Options`,
+  :meth:`FidelityParams.boundary` -> :class:`peenflow.fe.model.Target`,
+  :meth:`ShotParams.shots` -> :class:`peenflow.fe.shots.Shots`).
+
+No default is set here a second time: a value the study leaves out is the
+study schema's default (``peenflow.study``), or -- where the study says
+nothing (``room_temperature_K`` without a thermal term) -- the kernel's own.
+"""
+
+from __future__ import annotations
+
+import math
+import typing
+from dataclasses import dataclass, fields
+from functools import cache
+
+import numpy as np
+
+from peenflow.fe.impact import Options
+from peenflow.fe.johnson_cook import Material
+from peenflow.fe.model import Target
+from peenflow.fe.shots import Shots
+from peenflow.methods import RevGeometry, impingement_direction
+from peenflow.study.measured_profile import MeasuredProfile
+
+__all__ = ["StageParams", "MaterialParams", "ShotParams", "FidelityParams", "DminParams", "CoverageParams",
+           "StripParams", "LadderParams", "SequencesParams", "RevParams", "TargetParams", "PlateParams", "MeasuredProfile",
+           "StudyParams", "study_params"]
+
+MM = 1e-3
+
+
+@dataclass(frozen=True)
+class StageParams:
+    """Base of the typed parameters: the canonical form and its inverse.
+
+    Fields are numbers, strings, booleans, None, tuples of them, or nested
+    :class:`StageParams`; tuples come back from the canonical form (JSON
+    lists) as tuples.
+    """
+
+    def __canonical__(self) -> dict:
+        """Every field by name (nested parameters as their own canonical dicts)."""
+        return {f.name: _canonical_field(getattr(self, f.name)) for f in fields(self)}
+
+    @classmethod
+    def from_canonical(cls, value):
+        """The parameters from their canonical form (a dict of every field), or ``value`` if already typed."""
+        if isinstance(value, cls):
+            return value
+        if not isinstance(value, dict):
+            raise TypeError(f"{cls.__name__}: expected a dict of its fields, got {type(value).__name__}")
+        names = {f.name for f in fields(cls)}
+        if set(value) != names:
+            raise TypeError(f"{cls.__name__}: fields {sorted(value)} given, expected {sorted(names)}")
+        hints = _hints(cls)
+        return cls(**{k: _from_canonical_field(hints[k], v) for k, v in value.items()})
+
+
+def _canonical_field(v):
+    if isinstance(v, StageParams):
+        return v.__canonical__()
+    if isinstance(v, tuple):
+        return [_canonical_field(x) for x in v]
+    return v
+
+
+@cache
+def _hints(cls) -> dict:
+    return typing.get_type_hints(cls)
+
+
+def _from_canonical_field(hint, v):
+    if v is None:
+        return None
+    for t in typing.get_args(hint) or (hint,):  # X | None: the non-None member
+        if isinstance(t, type) and issubclass(t, StageParams):
+            return t.from_canonical(v)
+    if isinstance(v, list):
+        return tuple(v)
+    return v
+
+
+# -- materials, shot, mesh and kernel settings --------------------------------------------------------------
+@dataclass(frozen=True)
+class MaterialParams(StageParams):
+    """Isotropic elastic + Johnson-Cook plastic material (paper eq. 1), SI.
+
+    ``youngs_modulus_Pa`` E (Pa), ``poisson_ratio`` nu (1), ``density_kg_m3``;
+    ``A_Pa``, ``B_Pa`` (Pa), ``n``, ``C``, ``m`` (1), ``reference_strain_rate_1_s``
+    (s-1); ``room_temperature_K`` / ``melt_temperature_K`` (K, None: the
+    study gave none, m = 0, and the kernel's own values apply).
+    """
+
+    youngs_modulus_Pa: float
+    poisson_ratio: float
+    density_kg_m3: float
+    A_Pa: float
+    B_Pa: float
+    n: float
+    C: float
+    m: float
+    reference_strain_rate_1_s: float
+    room_temperature_K: float | None
+    melt_temperature_K: float | None
+
+    @classmethod
+    def from_study(cls, material) -> "MaterialParams":
+        """From a study :class:`peenflow.study.items.Material` (GPa, MPa there)."""
+        jc = material.johnson_cook
+        return cls(material.youngs_modulus_Pa, material.poisson_ratio, material.density_kg_m3, jc.A_Pa, jc.B_Pa,
+                   jc.n, jc.C, jc.m, jc.reference_strain_rate_1_s, jc.room_temperature_K, jc.melt_temperature_K)
+
+    def to_kernel(self) -> Material:
+        temperatures = {k: v for k, v in (("T_room", self.room_temperature_K), ("T_melt", self.melt_temperature_K))
+                        if v is not None}
+        return Material(E=self.youngs_modulus_Pa, nu=self.poisson_ratio, density=self.density_kg_m3, A=self.A_Pa,
+                        B=self.B_Pa, n=self.n, C=self.C, m=self.m, ref_strain_rate=self.reference_strain_rate_1_s,
+                        **temperatures)
+
+
+@dataclass(frozen=True)
+class ShotParams(StageParams):
+    """A rigid spherical shot: ``radius_m`` (m), ``density_kg_m3``, Coulomb ``friction_coefficient`` (1)."""
+
+    radius_m: float
+    density_kg_m3: float
+    friction_coefficient: float
+
+    @classmethod
+    def from_study(cls, shot) -> "ShotParams":
+        return cls(shot.radius_m, shot.density_kg_m3, shot.friction_coefficient)
+
+    @property
+    def diameter_m(self) -> float:
+        return 2.0 * self.radius_m
+
+    def aimed(self, speed: float, angle_deg: float, landing_xy=(0.0, 0.0), gap: float | None = None) -> tuple:
+        """(centre (3,) m, velocity (3,) m s-1) of a shot at ``speed`` (m s-1) that first
+        touches z = 0 at ``landing_xy`` (m), starting ``gap`` (m; 2 % of the radius) away."""
+        u = impingement_direction(angle_deg)
+        gap = 0.02 * self.radius_m if gap is None else gap
+        centre = np.array([landing_xy[0], landing_xy[1], -self.radius_m]) - gap / u[2] * u
+        return centre, speed * u
+
+    def shots(self, centres, velocities) -> Shots:
+        """The kernel's shots: centres (n, 3) m, velocities (n, 3) m s-1."""
+        return Shots(np.asarray(centres, float).reshape(-1, 3), np.asarray(velocities, float).reshape(-1, 3),
+                     self.radius_m, self.density_kg_m3)
+
+
+@dataclass(frozen=True)
+class FidelityParams(StageParams):
+    """Mesh and kernel settings of ``[fidelity]``, SI.
+
+    ``element_size_m`` (fine element edge), ``fine_depth_m`` (depth of the fine
+    zone), ``grading_ratio`` (1), ``time_step_safety`` (fraction of the
+    stable step), ``window_contact_radii`` (active window half size in
+    estimated contact radii; 0 = whole mesh), ``settle_tolerance`` /
+    ``relaxation_tolerance`` (kinetic energy / impact energy at rest),
+    ``lateral_boundary`` ("symmetric" | "periodic", REV lateral faces).
+    """
+
+    element_size_m: float
+    fine_depth_m: float
+    grading_ratio: float
+    time_step_safety: float
+    window_contact_radii: float
+    settle_tolerance: float
+    relaxation_tolerance: float
+    lateral_boundary: str
+
+    @classmethod
+    def from_study(cls, f) -> "FidelityParams":
+        return cls(f.element_size_m, f.fine_depth_m, f.grading_ratio, f.time_step_safety, f.window_contact_radii,
+                   f.settle_tolerance, f.relaxation_tolerance, f.lateral_boundary)
+
+    def options(self, shot: ShotParams, threads: int = 1, record: bool = False, record_every: int = 1) -> Options:
+        """The kernel's options.
+
+        The window is sized in the kernel's estimated contact radius, so one
+        setting suits steel strips and soft targets alike (0: no window, the
+        kernel's own window sizes unused).  Settling and relaxation end when
+        the kinetic energy falls below the tolerance times the impact energy
+        and every nodal speed below ``0.1 sqrt(tolerance)`` times the shot
+        speed (the kernel's two rest criteria; the standard preset gives the
+        kernel's defaults).  The window's minimum size (in elements and in
+        wave travel) is the kernel's own (``Options.window_min_elements``,
+        ``window_min_wave``).
+        """
+        w = self.window_contact_radii
+        window = {"window": True, "window_lateral": w, "window_depth": w} if w > 0 else {"window": False}
+        return Options(
+            dt_safety=self.time_step_safety, friction=shot.friction_coefficient, **window,
+            rest_ke_fraction=self.settle_tolerance, rest_v_fraction=0.1 * math.sqrt(self.settle_tolerance),
+            relax_ke_fraction=self.relaxation_tolerance, relax_v_fraction=0.1 * math.sqrt(self.relaxation_tolerance),
+            threads=threads, record=record, record_every=record_every,
+            # a preset's window is its measured choice: the result records when it
+            # lies outside the kernel's validated envelope instead of a warning per call
+            window_warning=False,
+        )
+
+    def boundary(self, mesh, impact_block: bool = False) -> Target:
+        """The kernel's target: fixed bottom; lateral faces from ``lateral_boundary`` for a REV.
+
+        An impact block (single impact, two shots) is a quarter / half model
+        whose faces through the impact are symmetry planes, so its lateral
+        faces stay symmetric whatever the key says ("periodic" needs the REV's
+        uniform lateral spacing, and would tie a symmetry plane to the far face).
+        """
+        return Target(mesh, lateral="symmetric" if impact_block else self.lateral_boundary, bottom="fixed")
+
+
+# -- the method's settings ---------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class DminParams(StageParams):
+    """The two-shot d_min search (eq. 4): ``threshold`` (fraction of the peak von Mises),
+    ``resolution_m``, ``min_distance_m``, ``max_distance_m`` (m), ``method`` ("bisection" | "scan")."""
+
+    threshold: float
+    resolution_m: float
+    min_distance_m: float
+    max_distance_m: float
+    method: str
+
+    @classmethod
+    def from_study(cls, d) -> "DminParams":
+        return cls(d.threshold, d.resolution_m, d.min_distance_m, d.max_distance_m, d.method)
+
+
+@dataclass(frozen=True)
+class CoverageParams(StageParams):
+    """The Monte-Carlo coverage curve (eq. 5): ``shot_radius_m`` (m), ``grid_points`` per side of
+    the measuring grid, ``max_shots`` or ``shot_counts`` (None: automatic), ``sequences`` and
+    their ``seeds``, ``full_coverage_percent`` (%, the coverage of N_f)."""
+
+    shot_radius_m: float
+    grid_points: int
+    max_shots: int | None
+    shot_counts: tuple[int, ...] | None
+    sequences: int
+    seeds: tuple[int, ...]
+    full_coverage_percent: float
+
+
+@dataclass(frozen=True)
+class StripParams(StageParams):
+    """The Almen strip as the arc height sees it (eqs. 6-9): ``width_m``, ``thickness_m``,
+    ``gauge_span_m`` (m), ``youngs_modulus_Pa`` (Pa) of its material."""
+
+    width_m: float
+    thickness_m: float
+    youngs_modulus_Pa: float
+    gauge_span_m: float
+
+    @classmethod
+    def from_study(cls, strip) -> "StripParams":
+        return cls(strip.width_m, strip.thickness_m, strip.material.youngs_modulus_Pa, strip.gauge_span_m)
+
+
+@dataclass(frozen=True)
+class LadderParams(StageParams):
+    """A strip ladder that extends itself (``almen.shot_counts = "auto"``): doubling from
+    ``first_shots`` to at most ``max_shots``, stopping by the saturation ``fit``'s verdict
+    on the arc heights of ``strip``."""
+
+    first_shots: int
+    max_shots: int
+    fit: str
+    strip: StripParams
+
+
+@dataclass(frozen=True)
+class SequencesParams(StageParams):
+    """Adaptive sequences (``almen.sequence_tolerance_mm``): from ``start`` to at most ``cap``
+    sequences per (angle, velocity), until the 95 % upper bound of the standard error of the
+    per-sequence intensities (eq. 11 by ``fit`` on the arc heights of ``strip``) is at most
+    ``tolerance_m`` (m)."""
+
+    tolerance_m: float
+    start: int
+    cap: int
+    fit: str
+    strip: StripParams
+
+    def verdict(self, intensities_m):
+        """:func:`peenflow.methods.sequences_verdict` of the per-sequence intensities so far (m)."""
+        from peenflow.methods import sequences_verdict
+
+        return sequences_verdict(intensities_m, self.tolerance_m, n_min=self.start, n_max=self.cap)
+
+    def describe(self) -> str:
+        return (f"tolerance {self.tolerance_m / MM:g} mm on the standard error (95 % bound), "
+                f"{self.start} to {self.cap} sequences")
+
+
+@dataclass(frozen=True)
+class RevParams(StageParams):
+    """The REV rule's inputs: ``rule`` ("dmin" | "paper" | "explicit"), ``thickness_m``,
+    ``shot_diameter_m``, and the given ``side_m`` / ``measure_side_m`` (m, None: by the rule)."""
+
+    rule: str
+    thickness_m: float
+    shot_diameter_m: float
+    side_m: float | None
+    measure_side_m: float | None
+
+    def geometry(self, d_min: float | None = None) -> RevGeometry:
+        """The REV's top surface by the rule (:meth:`peenflow.methods.RevGeometry.by_rule`); ``d_min`` m."""
+        return RevGeometry.by_rule(self.rule, self.shot_diameter_m, d_min=d_min, side=self.side_m,
+                                   measuring_side=self.measure_side_m)
+
+
+@dataclass(frozen=True)
+class TargetParams(StageParams):
+    """How the target's velocity is found: given (``velocity_m_s``, m s-1), or read off
+    the control curve at ``intensity_m`` (m, Almen arc height) and ``angle_deg`` by
+    ``rule`` ("nearest" | "interpolate") through the ``interpolation`` ("pchip" |
+    "linear") the control curve uses; ``allow_extrapolated`` accepts points
+    saturated beyond their ladder."""
+
+    angle_deg: float
+    velocity_m_s: float | None
+    intensity_m: float | None
+    rule: str
+    interpolation: str | None
+    allow_extrapolated: bool
+
+
+@dataclass(frozen=True)
+class PlateParams(StageParams):
+    """The part as a plate peened on one face, for its free profile: ``thickness_m`` (m),
+    ``youngs_modulus_Pa`` (Pa), ``poisson_ratio`` (1)."""
+
+    thickness_m: float
+    youngs_modulus_Pa: float
+    poisson_ratio: float
+
+
+# -- the whole study, once ------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class StudyParams:
+    """Every stage parameter of a study (None where its section is absent)."""
+
+    shot: ShotParams
+    fidelity: FidelityParams
+    dmin: DminParams
+    strip_material: MaterialParams | None
+    strip: StripParams | None
+    strip_rev: RevParams | None
+    ladder: LadderParams | None
+    sequences: SequencesParams | None
+    coverage: CoverageParams
+    target_material: MaterialParams | None
+    target: TargetParams | None
+    target_rev: RevParams | None
+    plate: PlateParams | None
+    measured: MeasuredProfile | None
+
+
+def study_params(study) -> StudyParams:
+    """All stage parameters of a validated study, in SI (module docstring)."""
+    D = study.shot.diameter_m
+    c = study.coverage
+    coverage = CoverageParams(
+        shot_radius_m=study.shot.radius_m, grid_points=c.grid_points, max_shots=c.max_shots,
+        shot_counts=None if c.shot_counts is None else tuple(int(n) for n in c.shot_counts), sequences=c.sequences,
+        seeds=tuple(study.seeds.seeds("coverage", c.sequences)), full_coverage_percent=c.full_coverage_percent)
+    strip_material = strip = strip_rev = ladder = sequences = None
+    if (a := study.almen) is not None:
+        strip_material = MaterialParams.from_study(a.strip.material)
+        strip = StripParams.from_study(a.strip)
+        strip_rev = RevParams(a.rev_rule, a.strip.thickness_m, D, _mm(a.rev_size_mm), _mm(a.measure_size_mm))
+        if a.ladder_auto:
+            ladder = LadderParams(a.ladder_first_shots, a.ladder_max_shots, a.saturation_fit, strip)
+        if a.sequences_adaptive:
+            sequences = SequencesParams(a.sequence_tolerance_mm * MM, a.sequences, a.sequences_cap,
+                                        a.saturation_fit, strip)
+    target_material = target = target_rev = plate = measured = None
+    if (t := study.target) is not None:
+        target_material = MaterialParams.from_study(t.material)
+        given = t.velocity_m_s is not None
+        target = TargetParams(
+            angle_deg=t.angle_deg, velocity_m_s=t.velocity_m_s, intensity_m=None if given else t.intensity_mm * MM,
+            rule=t.control_angle_rule, interpolation=None if given else study.almen.interpolation,
+            allow_extrapolated=bool(study.almen and study.almen.allow_extrapolated_intensity))
+        target_rev = RevParams("dmin" if t.rev_size_mm is None else "explicit", t.rev_thickness_m, D,
+                               _mm(t.rev_size_mm), _mm(t.measure_size_mm))
+        plate = PlateParams(t.thickness_m, t.material.youngs_modulus_Pa, t.material.poisson_ratio)
+        measured = t.measured_profile
+    return StudyParams(ShotParams.from_study(study.shot), FidelityParams.from_study(study.fidelity),
+                       DminParams.from_study(study.dmin), strip_material, strip, strip_rev, ladder, sequences,
+                       coverage,
+                       target_material, target, target_rev, plate, measured)
+
+
+def _mm(value: float | None) -> float | None:
+    return None if value is None else value * MM
