@@ -50,6 +50,11 @@ def available_cores() -> int:
 def point_specs(graph: Graph, nodes: list[Node], store: DirectoryStore, forced: set[str],
                 threads: int | dict[str, int]) -> dict[str, tuple[PointSpec, list[str]]]:
     """Specs of ``nodes``; ``threads``: one count for all, or per stage."""
+    from .content import PROVENANCE_PREFIX
+
+    bad = [k for k in graph.result_attrs if not k.startswith(PROVENANCE_PREFIX)]
+    if bad:  # a programming error of the pipeline: these would enter the content hashes
+        raise ValueError(f"graph.result_attrs names must start with {PROVENANCE_PREFIX!r}: {bad}")
     out = {}
     for node in nodes:
         ups: list[Node] = []
@@ -66,6 +71,7 @@ def point_specs(graph: Graph, nodes: list[Node], store: DirectoryStore, forced: 
             forced=node.node_id in forced,
             threads=threads[node.stage] if isinstance(threads, dict) else threads,
             sweep_attrs={d: dict(graph.coord_attrs.get(d, {})) for d in node.coords},
+            result_attrs=dict(graph.result_attrs),
         )
         out[node.node_id] = (spec, [u.node_id for u in ups])
     return out

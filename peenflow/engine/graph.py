@@ -118,6 +118,10 @@ class Graph:
         self.headline = None
         #: attributes of sweep coordinates in stored results, ``{dim: {"units": ..., "long_name": ...}}``
         self.coord_attrs: dict = {}
+        #: attributes written on every result this graph computes, outside every key and content
+        #: hash (a study's statement about its own fidelity, say): names start with ``peenflow_``,
+        #: the provenance prefix; a result reused from another study keeps its own
+        self.result_attrs: dict[str, str] = {}
         #: sweeps with a growing dimension (:mod:`.growth`), in graph order
         self.growing: list[Sweep] = []
         #: where each group of a growing sweep stands after the last ``growth.resolve``

@@ -64,6 +64,8 @@ class PointSpec:
     threads: int = 1
     #: CF attributes of the sweep coordinates ({dim: {"units": ..., "long_name": ...}})
     sweep_attrs: dict = field(default_factory=dict)
+    #: the graph's ``result_attrs``: written on the result, not part of its key
+    result_attrs: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -294,6 +296,7 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
                     f"(study {spec.study}, point {spec.node_id})",
             source=f"peenflow {__version__}, task {task.name} ({parts.code}, code fingerprint "
                    f"{source_hash})")
+        result.attrs.update(spec.result_attrs)
         result.attrs.update({
             "peenflow_task": task.name,
             "peenflow_stage": spec.stage,

@@ -126,3 +126,4 @@ def test_bad_grow_declarations_are_refused():
     with pytest.raises(ValueError, match="grow.start = 3"):
         Graph("y").sweep(t, dims={"a": [1], "b": [0, 1]}, grow=Grow("b", 3, lambda d, c: False), stage="t2")
     assert math.isfinite(needed(1, 10, 8))
+

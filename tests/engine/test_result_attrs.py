@@ -1,0 +1,38 @@
+"""graph.result_attrs (engine/graph.py): attributes a study writes on every result it computes,
+outside every key and content hash."""
+
+import pytest
+from engine_helpers import HERE
+
+from peenflow.engine import load_graph, plan
+from peenflow.engine.reasons import State
+
+
+def test_result_attrs_are_written_outside_keys_and_content(tmp_path):
+    import shutil
+
+    from peenflow.engine import DirectoryStore, Reporter, execute
+    from peenflow.engine.content import dataset_content_hash as dataset_hash
+
+    d = tmp_path / "a"
+    d.mkdir()
+    shutil.copy(HERE / "toy_pipeline.py", d / "toy_pipeline.py")
+    study = d / "toy.toml"
+    study.write_text('[study]\nname = "attrs"\npipeline = "toy_pipeline:build"\n\n[toy]\nn = 3\nfactors = [1, 2]\n'
+                     "steps = 1\n")
+    g1 = load_graph(study, "unused:unused")
+    g1.result_attrs = {"peenflow_fidelity_note": "measured: 1 %"}
+    store = DirectoryStore(d / ".peenflow")
+    execute(g1, store, list(g1.nodes), reporter=Reporter(quiet=True))
+    items = plan(g1, store)
+    ds = store.open("total", next(i.key for i in items if i.node.stage == "total"))
+    assert ds.attrs["peenflow_fidelity_note"] == "measured: 1 %"
+    g2 = load_graph(study, "unused:unused")  # without the attrs: same keys, same content, all reused
+    items2 = plan(g2, store)
+    assert [i.key for i in items2] == [i.key for i in items] and all(i.state is State.DONE for i in items2)
+    stripped = ds.copy()
+    stripped.attrs.pop("peenflow_fidelity_note")
+    assert dataset_hash(stripped) == dataset_hash(ds)
+    g2.result_attrs = {"fidelity_note": "x"}
+    with pytest.raises(ValueError, match="must start with 'peenflow_'"):
+        execute(g2, store, list(g2.nodes), reporter=Reporter(quiet=True))
