@@ -24,7 +24,7 @@ import numpy as np
 import xarray as xr
 
 from peenflow.fe import impact as _impact
-from peenflow.fe.impact import ImpactRun, Options
+from peenflow.fe.impact import ImpactRun, Options  # ImpactRun: the REV run drives the kernel step by step
 from peenflow.fe.safety import KernelInstabilityError
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import BoxMesh, graded_axis

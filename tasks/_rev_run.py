@@ -4,9 +4,11 @@ Shared by ``strip_runs`` (the saturation ladder N = 10 ... 480 of §4: one run
 per sequence to the largest N, the shots of rung N being the first N to
 arrive) and ``target_runs`` (N_c shots on the part's REV, §5).
 
-Each rung is relaxed to rest on a copy of the state (the run continues from
-the unrelaxed state) and reduced to depth profiles averaged over the
-measuring region.  The kernel state and the profiles already made are
+The run drives the kernel step by step (:class:`peenflow.fe.impact.ImpactRun`):
+one impact per shot, and at each rung a snapshot, the state relaxed to rest
+on a copy (the run continues from the unrelaxed state), reduced to depth
+profiles averaged over the measuring region; a rung's snapshot is the same,
+bit for bit, as a separate run of its shots.  The kernel state and the profiles already made are
 checkpointed at every rung and every ``PEENFLOW_CHECKPOINT_EVERY_S``
 seconds (default 30), so a killed run resumes from its last checkpoint with
 the same result it would have had uninterrupted.  When the user stops the run

@@ -2,6 +2,17 @@
 
     result = run_impacts(target, material, shots, options)
 
+or step by step, as a caller that drives its own sequence does (shot
+ladders, checkpoints at its own times; ``tasks/_rev_run.py``)::
+
+    run = ImpactRun(target, material, options, state=None)  # set up a model (or resume)
+    record = run.impact(shots, run.shots_done)              # one impact -> ShotRecord (named fields)
+    snapshot = run.snapshot(shots)                          # a relaxed copy -> Snapshot
+    state = run.checkpoint()                                # dict of arrays: ImpactRun(..., state=state)
+    result = run.result(shots)                              # final relaxation -> ImpactRunResult
+
+:func:`run_impacts` is the loop over these steps.
+
 Event-driven time (one shot at a time, in the given order):
 
 1. The target is at rest. The next shot flies in a straight line to the
@@ -10,61 +21,28 @@ Event-driven time (one shot at a time, in the given order):
    ``options.lead_steps`` stable steps before that instant, on its line (a
    given centre that already overlaps a pile-up is put back upstream: the
    shot comes from far away; :func:`time_to_contact`).
-2. Impact phase on the ACTIVE WINDOW (``options.window``): an element box
-   around the landing point, ``window_lateral`` x the estimated contact radius
-   laterally (plus the shot's tangential travel) and ``window_depth`` x it in
-   depth, but at least ``window_min_elements`` elements and
-   ``window_min_wave`` x the wave travel during the contact each way (a slow
-   shot's window would otherwise shrink to a few held elements: +5-6 % on
-   the peak force at 1-5 m/s, 0.4 % with the minimum); elements outside are
-   not integrated. A window smaller than any measured
-   (:data:`WINDOW_VALIDATED`) is warned about (:class:`WindowValidityWarning`).
-   The window faces inside the mesh are held fixed (``window_boundary="held"``, default), or stand on
-   the exterior through a viscous-spring boundary
-   (``window_boundary="viscous-spring"``; :meth:`Model.window_boundary`):
-   Lysmer-Kuhlemeyer dashpots absorb the waves that held faces send back to
-   the contact, springs (point-source half-space stiffness plus the slab
-   between the face and a held mesh face) carry the slow contact load and
-   the residual field, starting from the reaction that held the faces; once
-   the shot has left, the exterior elements on the faces are told how far
-   the faces moved. It halves the single-impact window error but is worse
-   than held faces in sequences (strip REV, 4 shots: profile error 6.8 %
-   against 2.5 %; BENCHMARKS.md section 2).
-   ``window=False`` integrates the whole mesh.
+2. Impact phase on the ACTIVE WINDOW (``options.window``), an element box
+   around the landing point sized in estimated contact radii, elements and
+   wave travel, held or viscous-spring faces (:mod:`peenflow.fe.window`;
+   measured errors there and in BENCHMARKS.md section 2); elements outside
+   are not integrated. ``window=False`` integrates the whole mesh.
 3. When the shot has left (no node in contact, moving away) the window is
    damped (mass-proportional, :meth:`Model.settle_alpha`) until AT REST:
    ``KE_window <= rest_ke_fraction * E_impact`` AND
-   ``max |v| <= rest_v_fraction * |v_shot|``. The shot is then discarded.
-4. At each count in ``snapshot_after`` and at the end, a COPY of the state is
-   brought to static equilibrium over the whole mesh
-   (:mod:`peenflow.fe.relaxation`) and stored.
+   ``max |v| <= rest_v_fraction * |v_shot|``. The shot is then discarded and
+   its :class:`~peenflow.fe.records.ShotRecord` kept in the state.
+4. A snapshot (:meth:`ImpactRun.snapshot`: at each count in
+   ``snapshot_after``) and the result bring a COPY of the state to static
+   equilibrium over the whole mesh (:mod:`peenflow.fe.relaxation`): the
+   global relaxation before reading a profile is mandatory, the measuring
+   region is wider than a window (~10 s on the strip REV).
 
-Periodic lateral faces (``Target(lateral="periodic")``, uniform lateral
-spacing): the target is translation-invariant laterally, so before a shot
-whose window (or, without a window, whose contact zone) would reach the
-seam, the whole state is ROLLED by whole elements (:meth:`Model.roll`) to
-bring its landing point to the middle of the mesh; the shot runs with an
-ordinary window, and the state is rolled back once it has settled. A shot
-landing beyond the mesh wraps into it. A window wider than the period spans
-it along that axis and the solver ties the faces (slave forces folded into
-masters, slaves follow; :func:`peenflow.fe.solver._node_update`); the
-relaxations work on the tied space. The shot's contact zone must fit in
-half a period (ValueError otherwise). The recorded window (``win_*``) is in
-the target's frame and may extend past the mesh (it wraps); recorded shot
-centres likewise. No symmetric mass fraction applies. Effect against
-symmetric faces on a REV: BENCHMARKS.md section 2.
-
-The estimated contact radius is the larger of the Hertz radius and Johnson's
-fully plastic radius (mean pressure ``3 A``) at the shot's normal speed
-(:mod:`peenflow.fe.shots`).
-
-Measured window error (BENCHMARKS.md section 2, ``bench_kernel.py window``;
-strip REV, 25 um, 55 m/s, one impact): held faces (default) dent depth
-+1.7 %, restitution +3 %, averaged sigma_x profile 3.9 % (max abs difference
-/ max abs value); viscous-spring faces +1.0 %, -1.9 %, 1.8 %; for ~48x less
-work per impact. The global relaxation before reading a profile is
-mandatory: the measuring region is wider than a window (static relaxation,
-~10 s on the strip REV, ~9x less than dynamic relaxation).
+Periodic lateral faces (``Target(lateral="periodic")``): before a shot
+whose window would reach the seam the state is rolled by whole elements to
+bring the landing point to the middle of the mesh, and rolled back once the
+shot has settled (:mod:`peenflow.fe.periodic`). The recorded window
+(``win_*``) is in the target's frame and may extend past the mesh (it
+wraps); recorded shot centres likewise. No symmetric mass fraction applies.
 """
 
 from __future__ import annotations
@@ -93,6 +71,7 @@ from peenflow.fe.window import (WINDOW_VALIDATED, WindowValidityWarning, contact
 __all__ = ["Options", "ImpactRun", "ImpactRunResult", "Snapshot", "ShotRecord", "run_impacts", "reference_scales",
            "Target", "Material", "Shots", "WindowValidityWarning", "WINDOW_VALIDATED", "SHOT_RECORD_FIELDS",
            "SHOT_RECORD_DTYPE"]
+
 
 @dataclass(frozen=True)
 class Options:
@@ -277,7 +256,8 @@ class ImpactRunResult:
     centroids : (n_elements, 3) m, reference element centroids.
     nodes : (n_nodes, 3) m, reference node positions.
     snapshots : {n_shots: Snapshot}.
-    shots : dict of per-shot arrays, keys ``SHOT_RECORD_FIELDS`` (times s,
+    shots : dict of per-shot arrays, keys ``SHOT_RECORD_FIELDS`` (:class:`ShotRecord`: hit bool, steps and
+      win_* int, the rest float; times s,
       velocities m/s, restitution = -v_out,z / v_in,z, max_approach m = deepest
       point of the shot below z = 0, max_overlap m, peak_force N (full shot),
       max_contact_radius m (farthest node in contact; quantised by the node

@@ -8,7 +8,7 @@ import pytest
 
 from peenflow.fe.impact import Options
 from peenflow.fe.johnson_cook import Material
-from peenflow.fe.mesh import BoxMesh, graded_axis
+from peenflow.fe.mesh import BoxMesh
 from peenflow.fe.model import Model, Target
 from peenflow.fe.shots import Shots, hertz
 from peenflow.fe.window import (WINDOW_VALIDATED, contact_estimates, impact_window, sponge, viscous_spring_boundary,
