@@ -113,7 +113,7 @@ class Options:
     window_boundary : the window faces inside the mesh: "held" (fixed;
       default) or "viscous-spring" (Lysmer-Kuhlemeyer dashpots in parallel
       with half-space + slab springs on top of the frozen reaction that held
-      them, :meth:`Model.window_boundary`; face nodes next to already
+      them, :func:`peenflow.fe.window.viscous_spring_boundary`; face nodes next to already
       yielded elements stay held). Better for a single impact, worse in
       sequences (BENCHMARKS.md section 2), hence not the default.
     boundary_spring, boundary_dashpot : scale the viscous-spring boundary's

@@ -41,7 +41,7 @@ class Target:
 
     mesh : BoxMesh (m);  lateral : "symmetric" | "free" | "periodic";  bottom : "fixed" | "free".
 
-    ``"periodic"`` ties the lateral faces (:mod:`peenflow.fe.boundary`) and
+    ``"periodic"`` ties the lateral faces (:mod:`peenflow.fe.periodic`) and
     needs a uniform lateral spacing along x and y (ValueError otherwise):
     the driver moves the state by whole elements so that each impact's
     window stays clear of the seam (:func:`peenflow.fe.impact.run_impacts`).

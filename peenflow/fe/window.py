@@ -156,7 +156,7 @@ def window_validity(model, material: Material, win: np.ndarray, xc: float, yc: f
 
 @dataclass(frozen=True)
 class WindowBoundary:
-    """Viscous-spring window faces (:meth:`Model.window_boundary`).
+    """Viscous-spring window faces (:func:`viscous_spring_boundary`).
 
     nodes : (nb,) node indices; stiffness : (nb, 3) N/m and damping :
     (nb, 3) N s/m per global component (diagonal: the faces are axis-aligned).
