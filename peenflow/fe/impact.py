@@ -330,37 +330,6 @@ def _shot_vector(shots: Shots, i: int, model: Model, friction: float) -> tuple[n
     return s, frac
 
 
-def _shot_vector(shots: Shots, i: int, model: Model, friction: float) -> tuple[np.ndarray, float]:
-    """Kernel shot vector and the modelled mass fraction (symmetry planes)."""
-    s = np.zeros(N_SHOT)
-    s[0:3] = shots.centres[i]
-    s[3:6] = shots.velocities[i]
-    s[6:9] = shots.spins[i]
-    frac = 1.0
-    mirror = 0
-    m = model.mesh
-    if model.target.lateral == "symmetric":
-        tol = 1e-9 * (m.x[-1] - m.x[0])
-        for val, lo, hi, flag in ((s[0], m.x[0], m.x[-1], MIRROR_X), (s[1], m.y[0], m.y[-1], MIRROR_Y)):
-            if abs(val - lo) <= tol or abs(val - hi) <= tol:
-                frac *= 0.5
-                mirror |= flag
-    held = ([3, 7, 8] if mirror & MIRROR_X else []) + ([4, 6, 8] if mirror & MIRROR_Y else [])
-    # round-off (cos 90 deg) is cleared; a real component is refused
-    scale = 1e-9 * (np.linalg.norm(s[3:6]) + np.linalg.norm(s[6:9]) * shots.radius + 1e-30)
-    if held and np.any(np.abs(s[held]) * np.where(np.array(held) >= 6, shots.radius, 1.0) > scale):
-        raise ValueError(f"shot {i} lies on a symmetry plane of the mesh but its velocity/spin "
-                         f"{s[3:9].tolist()} has components that plane cannot hold (v normal to it, "
-                         "spin about axes in it): use a larger model or align the shot with the plane")
-    s[held] = 0.0
-    s[S_MIRROR] = mirror
-    s[S_M] = shots.mass * frac
-    s[S_I] = shots.inertia * frac
-    s[S_R] = shots.radius
-    s[S_MU] = friction
-    return s, frac
-
-
 def _hourglass_ratio(rec: np.ndarray) -> float:
     """Largest over the shots that touched of (peak hourglass energy / peak internal energy) of the impact.
 
