@@ -18,6 +18,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[3]))
 
@@ -93,8 +94,10 @@ def flatten(res, prefix, out):
 
 
 def golden(only=()) -> dict:
+    """The outputs, BLAS pinned to one thread as the engine pins it (the multigrid's coarsest solve is a
+    BLAS product whose last bits depend on its thread count)."""
     out = {}
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(), threadpool_limits(limits=1, user_api="blas"):
         warnings.simplefilter("ignore", WindowValidityWarning)
         for name, (t, sh, opt, snaps) in cases().items():
             if only and name not in only:
