@@ -265,7 +265,8 @@ class ImpactRunResult:
       the normal-impulse distribution at peak force), hourglass_peak (peak hourglass energy / impact energy),
       internal_peak (peak internal energy / impact energy), spin_in_* / spin_out_* rad/s (the shot's
       spin before and after the impact; on a symmetry plane the components it cannot hold are 0),
-      energy_error = max |balance error| / impact energy).
+      energy_error = max |balance error| / impact energy, window_validated = the window was inside
+      :data:`WINDOW_VALIDATED`).
     histories : list (one per shot, if options.record) of dicts of arrays:
       time s, force (n,3) N on the shot, centre (n,3) m, velocity (n,3) m/s,
       ke_target, ke_shot, w_int, w_plastic, w_hourglass, w_viscous, e_contact,
@@ -454,13 +455,12 @@ class ImpactRun:
         st.ctl[S.C_TIME] += max(t_fly, 0.0)
         hit_xy = shot[0:2] + vel[0:2] * (t_hit - t_fly)
         win = impact_window(model, material, options, a_est, t_est, hit_xy, vel)
-        if options.window and not self.window_note:
-            why = window_validity(model, material, win, hit_xy[0], hit_xy[1], t_est)
-            if why is not None:
-                self.window_note = f"shot {i}: {why}"
-                if options.window_warning:
-                    warnings.warn(f"shot {i}: the active window {tuple(int(w) for w in win)} (element box) is "
-                                  f"outside what it was validated for: {why}", WindowValidityWarning, stacklevel=3)
+        why = window_validity(model, material, win, hit_xy[0], hit_xy[1], t_est) if options.window else None
+        if why is not None and not self.window_note:  # said once per ImpactRun, recorded for every shot
+            self.window_note = f"shot {i}: {why}"
+            if options.window_warning:
+                warnings.warn(f"shot {i}: the active window {tuple(int(w) for w in win)} (element box) is "
+                              f"outside what it was validated for: {why}", WindowValidityWarning, stacklevel=3)
         sponge_n, sponge_a = sponge(model, material, options, win)
         boundary = None
         if options.window and options.window_boundary == "viscous-spring":
@@ -515,6 +515,7 @@ class ImpactRun:
             hourglass_peak=info[S.I_HG_PEAK] / e_imp, internal_peak=info[S.I_INT_PEAK] / e_imp,
             # the phase leaves the rebound spin in the shot vector
             spin_out_x=shot[6], spin_out_y=shot[7], spin_out_z=shot[8],
+            window_validated=why is None,
             **common,
         )
 

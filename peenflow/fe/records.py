@@ -63,6 +63,8 @@ class ShotRecord:
     spin_out_x: float = _f("rad/s", "spin after the impact (unchanged for a miss)")
     spin_out_y: float = _f("rad/s")
     spin_out_z: float = _f("rad/s")
+    window_validated: bool = _f("1", "False if a held face of the impact's window was nearer than the envelope the "
+                                "window error was measured for (peenflow.fe.window.WINDOW_VALIDATED)", True)
 
     def as_row(self) -> np.ndarray:
         """This record as a 0-d structured array of :data:`SHOT_RECORD_DTYPE`."""

@@ -116,3 +116,16 @@ def test_viscous_spring_coefficients():
     ep[20 + 40 * (20 + 40 * 9)] = 1e-3  # element just above the bottom face, under the impact point
     b2 = viscous_spring_boundary(m, win, (0.0, 0.0), eps_p=ep)
     assert len(b2.nodes) == len(b0.nodes) - 4 and n not in b2.nodes
+
+
+def test_every_shot_records_whether_its_window_was_validated():
+    from peenflow.fe.impact import ImpactRun
+
+    m = uniform(40, nz=20)
+    shots = Shots([[0.0, 0.0, -R - 1e-6], [50e-6, 0.0, -R - 1e-6]], [[0.0, 0.0, 20.0]] * 2, R, 7800.0)
+    small = ImpactRun(m.target, MAT, Options(window_warning=False))
+    recs = [small.impact(shots, i) for i in range(2)]
+    assert [r.window_validated for r in recs] == [False, False]  # ~10 elements to the held faces
+    assert small.window_note.startswith("shot 0:")  # the note names the first only
+    big = ImpactRun(m.target, MAT, Options(window_min_elements=WINDOW_VALIDATED["elements"]))
+    assert big.impact(shots, 0).window_validated and big.window_note == ""
