@@ -110,13 +110,14 @@ def main(n_shots: int = 40, seeds=(1, 2, 3, 4, 5, 6)) -> None:
                     Shots([[0, 0, -R - 1e-6]], [[0, 0, SPEED]], R, RHO), Options())
     # cost of one roll of this block's state (a rolled shot pays two)
     from peenflow.fe.model import Model
+    from peenflow.fe.periodic import roll
 
     model = Model(Target(m, lateral="periodic"), mat)
     st = model.new_state()
     c0 = time.process_time()
     for k in range(10):
-        model.roll(st, 7, -5)
-    print(f"# Model.roll on this block: {(time.process_time() - c0) / 10 * 1e3:.1f} ms cpu")
+        roll(model, st, 7, -5)
+    print(f"# peenflow.fe.periodic.roll on this block: {(time.process_time() - c0) / 10 * 1e3:.1f} ms cpu")
     out, cpu_t = {}, {}
     for seed in seeds:
         stream = shot_stream(n_shots, R, 0.5 * SIDE, 0.5 * SIDE, 90.0, SPEED, seed)

@@ -10,12 +10,16 @@ kernel state as an xarray Dataset for checkpoints.
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 import numpy as np
 import xarray as xr
 
 from peenflow.fe import impact as _impact
-from peenflow.fe.safety import KernelInstabilityError
+from peenflow.fe.impact import ImpactRun  # noqa: F401 - the REV run drives the kernel step by step
 from peenflow.fe.mesh import BoxMesh, graded_axis
+from peenflow.fe.records import SHOT_RECORD_FIELDS
+from peenflow.fe.safety import KernelInstabilityError
 
 from .params import FidelityParams
 
@@ -49,12 +53,19 @@ def study_terms(message: str) -> str:
     return message + _NOT_A_STUDY_KEY if kernel_only else message
 
 
-def run_impacts(*args, **kwargs):
-    """:func:`peenflow.fe.impact.run_impacts`, its stop messages naming study keys."""
+@contextmanager
+def in_study_terms():
+    """Kernel stop messages raised inside the block name study keys (:func:`study_terms`)."""
     try:
-        return _impact.run_impacts(*args, **kwargs)
+        yield
     except KernelInstabilityError as exc:
         raise KernelInstabilityError(study_terms(str(exc)), exc.status, exc.shot_index, exc.time) from None
+
+
+def run_impacts(*args, **kwargs):
+    """:func:`peenflow.fe.impact.run_impacts`, its stop messages naming study keys."""
+    with in_study_terms():
+        return _impact.run_impacts(*args, **kwargs)
 
 
 # -- meshes ----------------------------------------------------------------------
@@ -129,16 +140,52 @@ def mirror_cells(values: np.ndarray, axis: int) -> np.ndarray:
 
 # -- checkpoints: kernel state <-> Dataset -------------------------------------------------------
 def state_to_dataset(state: dict, **extra) -> xr.Dataset:
-    """A kernel state dict (arrays) as a Dataset, plus ``extra`` variables (name -> (dims, values))."""
+    """A kernel state dict (arrays) as a Dataset, plus ``extra`` variables (name -> (dims, values)).
+
+    An array ``a`` of the state becomes ``kernel__<name>``; a structured one
+    (the shot records) one variable per field, ``kernel__<name>__<field>``
+    along ``kernel__<name>__0``, so that its fields are stored by name."""
     data = {}
     for name, arr in state.items():
         arr = np.asarray(arr)
-        data[f"kernel__{name}"] = ([f"kernel__{name}__{d}" for d in range(arr.ndim)], arr)
+        if arr.dtype.names is not None:
+            for fld in arr.dtype.names:
+                data[f"kernel__{name}__{fld}"] = ([f"kernel__{name}__0"], np.asarray(arr[fld]).reshape(-1))
+        else:
+            data[f"kernel__{name}"] = ([f"kernel__{name}__{d}" for d in range(arr.ndim)], arr)
     for name, (dims, values) in extra.items():
         data[name] = (dims, np.asarray(values))
     return xr.Dataset(data)
 
 
 def state_from_dataset(ds: xr.Dataset) -> dict:
-    return {name[len("kernel__"):]: np.asarray(ds[name].values) for name in ds.data_vars
-            if name.startswith("kernel__")}
+    """The kernel state dict of :func:`state_to_dataset`'s Dataset (structured entries reassembled by field
+    name; :class:`peenflow.fe.state.KernelState` then reads the shot records by name)."""
+    plain, fields = {}, {}
+    for var in ds.data_vars:
+        if not var.startswith("kernel__"):
+            continue
+        name, _, fld = var[len("kernel__"):].partition("__")
+        if fld:
+            fields.setdefault(name, {})[fld] = np.asarray(ds[var].values)
+        else:
+            plain[name] = np.asarray(ds[var].values)
+    for name, cols in fields.items():
+        n = len(next(iter(cols.values())))
+        rec = np.zeros(n, dtype=[(f, c.dtype) for f, c in cols.items()])
+        for f, c in cols.items():
+            rec[f] = c
+        plain[name] = rec
+    return plain
+
+
+def checkpoint_problem(ds: xr.Dataset) -> str:
+    """Why the kernel state in checkpoint ``ds`` cannot be resumed ("" if it can): shot records stored
+    as a table by column position (checkpoints written before 2026-12-02) or without every field."""
+    if "kernel__shot_records" in ds.variables:
+        return ("its shot records are a table by column position (written before 2026-12-02), which this "
+                "version does not read")
+    missing = [f for f in SHOT_RECORD_FIELDS if f"kernel__shot_records__{f}" not in ds.variables]
+    if missing:
+        return f"its shot records lack {', '.join(missing)}"
+    return ""

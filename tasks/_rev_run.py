@@ -4,9 +4,11 @@ Shared by ``strip_runs`` (the saturation ladder N = 10 ... 480 of §4: one run
 per sequence to the largest N, the shots of rung N being the first N to
 arrive) and ``target_runs`` (N_c shots on the part's REV, §5).
 
-Each rung is relaxed to rest on a copy of the state (the run continues from
-the unrelaxed state) and reduced to depth profiles averaged over the
-measuring region.  The kernel state and the profiles already made are
+The run drives the kernel step by step (:class:`peenflow.fe.impact.ImpactRun`):
+one impact per shot, and at each rung a snapshot, the state relaxed to rest
+on a copy (the run continues from the unrelaxed state), reduced to depth
+profiles averaged over the measuring region; a rung's snapshot is the same,
+bit for bit, as a separate run of its shots.  The kernel state and the profiles already made are
 checkpointed at every rung and every ``PEENFLOW_CHECKPOINT_EVERY_S``
 seconds (default 30), so a killed run resumes from its last checkpoint with
 the same result it would have had uninterrupted.  When the user stops the run
@@ -84,45 +86,42 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
         }
         ctx.save_checkpoint(K.state_to_dataset(state_dict, **extra))
 
+    impacts = K.ImpactRun(target, material_k, options, state=state)
     last_save = [time.time()]
 
-    def on_shot_done(i, exporter):
+    def shot_done(i):
         if ctx is None:
             return
         ctx.progress(i + 1, ladder[-1], "shots")
         if ctx.stop_requested:
-            checkpoint(exporter())
+            checkpoint(impacts.checkpoint())
             ctx.stop(f"after shot {i + 1} of {ladder[-1]}")
         if time.time() - last_save[0] > CHECKPOINT_EVERY_S:
-            checkpoint(exporter())
+            checkpoint(impacts.checkpoint())
             last_save[0] = time.time()
 
-    records = None
     verdict = None
     run = []  # the rungs of the result: the whole ladder, or up to the rung that stopped it
     for n in ladder:
         run.append(n)
-        if n in means:
-            if extend and (verdict := _verdict(means, run, z_edges, extend)).stop:
-                break
-            continue
-        shots = shot.shots(stream.centres[:n], stream.velocities[:n])
-        res = K.run_impacts(target, material_k, shots, options, state=state, on_shot_done=on_shot_done)
-        avg = average_over_region(centroids, res.stress, z_edges, region)
-        pavg = average_over_region(centroids, np.repeat(res.eps_p[:, None], 6, axis=1), z_edges, region)
-        means[n], spreads[n], plastic[n] = avg.mean, avg.std, pavg.mean[:, 0]
-        state = res.final_state.to_dict()
-        records = res.shots
-        if ctx is not None:
-            checkpoint(state)
-            last_save[0] = time.time()
+        if n not in means:
+            # the rung's shots are the first n of the stream; they scale its relaxation's rest
+            # criteria, as for a run of exactly these shots
+            shots = shot.shots(stream.centres[:n], stream.velocities[:n])
+            with K.in_study_terms():
+                for i in range(impacts.shots_done, n):
+                    impacts.impact(shots, i)
+                    shot_done(i)
+                snap = impacts.snapshot(shots, where=f"relaxation of the rung at {n} shots")
+            avg = average_over_region(centroids, snap.stress, z_edges, region)
+            pavg = average_over_region(centroids, np.repeat(snap.eps_p[:, None], 6, axis=1), z_edges, region)
+            means[n], spreads[n], plastic[n] = avg.mean, avg.std, pavg.mean[:, 0]
+            if ctx is not None:
+                checkpoint(impacts.checkpoint())
+                last_save[0] = time.time()
         if extend and (verdict := _verdict(means, run, z_edges, extend)).stop:
             break
-    if records is None:  # every rung came from the checkpoint
-        from peenflow.fe.state import SHOT_RECORD_FIELDS
-
-        rec = np.asarray(state["shot_records"]).reshape(-1, len(SHOT_RECORD_FIELDS))
-        records = {name: rec[:, k] for k, name in enumerate(SHOT_RECORD_FIELDS)}
+    records = impacts.records  # named fields (peenflow.fe.records.ShotRecord)
 
     ladder_vars = {}
     if extend:
@@ -140,7 +139,7 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
         stop_reason = {}
     mean = np.array([means[n] for n in run])
     spread = np.array([spreads[n] for n in run])
-    hit = records["hit"] > 0
+    hit = records["hit"]
     return xr.Dataset(
         {
             "stress_mean_Pa": var(mean, ("shots", "layer", "component"), "Pa",
@@ -170,8 +169,7 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
     )
 
 
-_CHECKPOINT_VARS = ("rung", "rung_mean", "rung_spread", "rung_plastic", "kernel__x", "kernel__shot_index",
-                    "kernel__shot_records")
+_CHECKPOINT_VARS = ("rung", "rung_mean", "rung_spread", "rung_plastic", "kernel__x", "kernel__shot_index")
 
 
 def _unusable(ck: xr.Dataset, mesh, nz: int, last: int) -> str:
@@ -179,6 +177,8 @@ def _unusable(ck: xr.Dataset, mesh, nz: int, last: int) -> str:
     missing = [v for v in _CHECKPOINT_VARS if v not in ck.variables]
     if missing:
         return f"it lacks {', '.join(missing)}: written by another task"
+    if problem := K.checkpoint_problem(ck):
+        return problem
     if ck["kernel__x"].shape != (mesh.n_nodes, 3):
         return f"its state has {ck['kernel__x'].shape[0]} nodes, this REV {mesh.n_nodes}"
     if ck["rung_mean"].shape[1:] != (nz, 6):

@@ -66,25 +66,3 @@ def node_fixity(mesh: BoxMesh, lateral: str = "symmetric", bottom: str = "fixed"
     if bottom == "fixed":
         bc[-1, :, :] |= FIX_X | FIX_Y | FIX_Z
     return bc.ravel()
-
-
-def check_periodic_mesh(mesh: BoxMesh) -> None:
-    """Periodic lateral faces need a uniform lateral spacing (the driver moves the
-    state by whole elements to keep each impact away from the seam)."""
-    for name in ("x", "y"):
-        a = getattr(mesh, name)
-        h = np.diff(a)
-        if len(h) < 2:
-            raise ValueError(f"periodic lateral faces: the {name} axis needs at least 2 elements")
-        if np.max(np.abs(h - h.mean())) > 1e-9 * h.mean():
-            raise ValueError(
-                f"periodic lateral faces need a uniform lateral spacing; the {name} axis is not uniform "
-                f"(element sizes {h.min():.6g} to {h.max():.6g} m)")
-
-
-def tie_masters(bc: np.ndarray, nnx: int, nny: int) -> np.ndarray:
-    """Per node: its master (itself for an untied node), (n_nodes,) int64."""
-    n = np.arange(len(bc), dtype=np.int64)
-    tx = (bc & TIE_X) != 0
-    ty = (bc & TIE_Y) != 0
-    return n - tx * (nnx - 1) - ty * nnx * (nny - 1)

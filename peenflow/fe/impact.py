@@ -2,6 +2,17 @@
 
     result = run_impacts(target, material, shots, options)
 
+or step by step, as a caller that drives its own sequence does (shot
+ladders, checkpoints at its own times; ``tasks/_rev_run.py``)::
+
+    run = ImpactRun(target, material, options, state=None)  # set up a model (or resume)
+    record = run.impact(shots, run.shots_done)              # one impact -> ShotRecord (named fields)
+    snapshot = run.snapshot(shots)                          # a relaxed copy -> Snapshot
+    state = run.checkpoint()                                # dict of arrays: ImpactRun(..., state=state)
+    result = run.result(shots)                              # final relaxation -> ImpactRunResult
+
+:func:`run_impacts` is the loop over these steps.
+
 Event-driven time (one shot at a time, in the given order):
 
 1. The target is at rest. The next shot flies in a straight line to the
@@ -10,61 +21,28 @@ Event-driven time (one shot at a time, in the given order):
    ``options.lead_steps`` stable steps before that instant, on its line (a
    given centre that already overlaps a pile-up is put back upstream: the
    shot comes from far away; :func:`time_to_contact`).
-2. Impact phase on the ACTIVE WINDOW (``options.window``): an element box
-   around the landing point, ``window_lateral`` x the estimated contact radius
-   laterally (plus the shot's tangential travel) and ``window_depth`` x it in
-   depth, but at least ``window_min_elements`` elements and
-   ``window_min_wave`` x the wave travel during the contact each way (a slow
-   shot's window would otherwise shrink to a few held elements: +5-6 % on
-   the peak force at 1-5 m/s, 0.4 % with the minimum); elements outside are
-   not integrated. A window smaller than any measured
-   (:data:`WINDOW_VALIDATED`) is warned about (:class:`WindowValidityWarning`).
-   The window faces inside the mesh are held fixed (``window_boundary="held"``, default), or stand on
-   the exterior through a viscous-spring boundary
-   (``window_boundary="viscous-spring"``; :meth:`Model.window_boundary`):
-   Lysmer-Kuhlemeyer dashpots absorb the waves that held faces send back to
-   the contact, springs (point-source half-space stiffness plus the slab
-   between the face and a held mesh face) carry the slow contact load and
-   the residual field, starting from the reaction that held the faces; once
-   the shot has left, the exterior elements on the faces are told how far
-   the faces moved. It halves the single-impact window error but is worse
-   than held faces in sequences (strip REV, 4 shots: profile error 6.8 %
-   against 2.5 %; BENCHMARKS.md section 2).
-   ``window=False`` integrates the whole mesh.
+2. Impact phase on the ACTIVE WINDOW (``options.window``), an element box
+   around the landing point sized in estimated contact radii, elements and
+   wave travel, held or viscous-spring faces (:mod:`peenflow.fe.window`;
+   measured errors there and in BENCHMARKS.md section 2); elements outside
+   are not integrated. ``window=False`` integrates the whole mesh.
 3. When the shot has left (no node in contact, moving away) the window is
    damped (mass-proportional, :meth:`Model.settle_alpha`) until AT REST:
    ``KE_window <= rest_ke_fraction * E_impact`` AND
-   ``max |v| <= rest_v_fraction * |v_shot|``. The shot is then discarded.
-4. At each count in ``snapshot_after`` and at the end, a COPY of the state is
-   brought to static equilibrium over the whole mesh
-   (:mod:`peenflow.fe.relaxation`) and stored.
+   ``max |v| <= rest_v_fraction * |v_shot|``. The shot is then discarded and
+   its :class:`~peenflow.fe.records.ShotRecord` kept in the state.
+4. A snapshot (:meth:`ImpactRun.snapshot`: at each count in
+   ``snapshot_after``) and the result bring a COPY of the state to static
+   equilibrium over the whole mesh (:mod:`peenflow.fe.relaxation`): the
+   global relaxation before reading a profile is mandatory, the measuring
+   region is wider than a window (~10 s on the strip REV).
 
-Periodic lateral faces (``Target(lateral="periodic")``, uniform lateral
-spacing): the target is translation-invariant laterally, so before a shot
-whose window (or, without a window, whose contact zone) would reach the
-seam, the whole state is ROLLED by whole elements (:meth:`Model.roll`) to
-bring its landing point to the middle of the mesh; the shot runs with an
-ordinary window, and the state is rolled back once it has settled. A shot
-landing beyond the mesh wraps into it. A window wider than the period spans
-it along that axis and the solver ties the faces (slave forces folded into
-masters, slaves follow; :func:`peenflow.fe.solver._node_update`); the
-relaxations work on the tied space. The shot's contact zone must fit in
-half a period (ValueError otherwise). The recorded window (``win_*``) is in
-the target's frame and may extend past the mesh (it wraps); recorded shot
-centres likewise. No symmetric mass fraction applies. Effect against
-symmetric faces on a REV: BENCHMARKS.md section 2.
-
-The estimated contact radius is the larger of the Hertz radius and Johnson's
-fully plastic radius (mean pressure ``3 A``) at the shot's normal speed
-(:mod:`peenflow.fe.shots`).
-
-Measured window error (BENCHMARKS.md section 2, ``bench_kernel.py window``;
-strip REV, 25 um, 55 m/s, one impact): held faces (default) dent depth
-+1.7 %, restitution +3 %, averaged sigma_x profile 3.9 % (max abs difference
-/ max abs value); viscous-spring faces +1.0 %, -1.9 %, 1.8 %; for ~48x less
-work per impact. The global relaxation before reading a profile is
-mandatory: the measuring region is wider than a window (static relaxation,
-~10 s on the strip REV, ~9x less than dynamic relaxation).
+Periodic lateral faces (``Target(lateral="periodic")``): before a shot
+whose window would reach the seam the state is rolled by whole elements to
+bring the landing point to the middle of the mesh, and rolled back once the
+shot has settled (:mod:`peenflow.fe.periodic`). The recorded window
+(``win_*``) is in the target's frame and may extend past the mesh (it
+wraps); recorded shot centres likewise. No symmetric mass fraction applies.
 """
 
 from __future__ import annotations
@@ -73,7 +51,7 @@ import math
 import numbers
 import time as _time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -82,26 +60,17 @@ from peenflow.fe import solver as S
 from peenflow.fe.contact import MIRROR_X, MIRROR_Y, N_SHOT, S_I, S_M, S_MIRROR, S_MU, S_R
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.model import Model, Target
+from peenflow.fe.periodic import roll, seam_shift
+from peenflow.fe.records import SHOT_RECORD_DTYPE, SHOT_RECORD_FIELDS, ShotRecord, record_columns, records_array
 from peenflow.fe.relaxation import relax
-from peenflow.fe.shots import Shots, hertz, johnson_plastic, time_to_contact
-from peenflow.fe.state import SHOT_RECORD_FIELDS, KernelState
+from peenflow.fe.shots import Shots, time_to_contact
+from peenflow.fe.state import KernelState
+from peenflow.fe.window import (WINDOW_VALIDATED, WindowValidityWarning, contact_estimates, impact_window, sponge,
+                                viscous_spring_boundary, window_validity)
 
-__all__ = ["Options", "ImpactRunResult", "Snapshot", "run_impacts", "Target", "Material", "Shots",
-           "WindowValidityWarning", "WINDOW_VALIDATED"]
-
-#: The window's measured envelope (BENCHMARKS.md section 2, window error and
-#: window size: strip REV, 25 um, 55 m/s, windows of 3-6 contact radii =
-#: 12-24 elements, 0.07-0.15 c_p t_c; "Window minimum size": 1 and 5 m/s,
-#: 0.05 c_p t_c, force within 0.4 % of the full mesh): held faces at least
-#: this many elements from the landing point, and at least this fraction of
-#: the dilatational wave travel during the contact (``c_p t_c``) away. A run
-#: whose window is smaller on either count gets a
-#: :class:`WindowValidityWarning` (once per run).
-WINDOW_VALIDATED = {"elements": 12.0, "wave": 0.05}
-
-
-class WindowValidityWarning(UserWarning):
-    """A shot's active window is smaller than any the window error was measured for."""
+__all__ = ["Options", "ImpactRun", "ImpactRunResult", "Snapshot", "ShotRecord", "run_impacts", "reference_scales",
+           "Target", "Material", "Shots", "WindowValidityWarning", "WINDOW_VALIDATED", "SHOT_RECORD_FIELDS",
+           "SHOT_RECORD_DTYPE"]
 
 
 @dataclass(frozen=True)
@@ -144,7 +113,7 @@ class Options:
     window_boundary : the window faces inside the mesh: "held" (fixed;
       default) or "viscous-spring" (Lysmer-Kuhlemeyer dashpots in parallel
       with half-space + slab springs on top of the frozen reaction that held
-      them, :meth:`Model.window_boundary`; face nodes next to already
+      them, :func:`peenflow.fe.window.viscous_spring_boundary`; face nodes next to already
       yielded elements stay held). Better for a single impact, worse in
       sequences (BENCHMARKS.md section 2), hence not the default.
     boundary_spring, boundary_dashpot : scale the viscous-spring boundary's
@@ -287,7 +256,8 @@ class ImpactRunResult:
     centroids : (n_elements, 3) m, reference element centroids.
     nodes : (n_nodes, 3) m, reference node positions.
     snapshots : {n_shots: Snapshot}.
-    shots : dict of per-shot arrays, keys ``SHOT_RECORD_FIELDS`` (times s,
+    shots : dict of per-shot arrays, keys ``SHOT_RECORD_FIELDS`` (:class:`ShotRecord`: hit bool, steps and
+      win_* int, the rest float; times s,
       velocities m/s, restitution = -v_out,z / v_in,z, max_approach m = deepest
       point of the shot below z = 0, max_overlap m, peak_force N (full shot),
       max_contact_radius m (farthest node in contact; quantised by the node
@@ -295,7 +265,8 @@ class ImpactRunResult:
       the normal-impulse distribution at peak force), hourglass_peak (peak hourglass energy / impact energy),
       internal_peak (peak internal energy / impact energy), spin_in_* / spin_out_* rad/s (the shot's
       spin before and after the impact; on a symmetry plane the components it cannot hold are 0),
-      energy_error = max |balance error| / impact energy).
+      energy_error = max |balance error| / impact energy, window_validated = the window was inside
+      :data:`WINDOW_VALIDATED`).
     histories : list (one per shot, if options.record) of dicts of arrays:
       time s, force (n,3) N on the shot, centre (n,3) m, velocity (n,3) m/s,
       ke_target, ke_shot, w_int, w_plastic, w_hourglass, w_viscous, e_contact,
@@ -360,105 +331,240 @@ def _shot_vector(shots: Shots, i: int, model: Model, friction: float) -> tuple[n
     return s, frac
 
 
-def _periodic_shift(model: Model, shot: np.ndarray, vel: np.ndarray, shots: Shots, material: Material,
-                    options: "Options") -> tuple[int, int]:
-    """Whole-element roll (:meth:`Model.roll`) that keeps a shot's window and
-    contact clear of a periodic target's seam (0, 0 when they already are).
-
-    The landing point is where the sphere's lowest point reaches ``z = 0`` on
-    its line; the reach around it is the window's (``options.window``) or the
-    contact's search box plus the tangential travel (full-mesh runs). The
-    contact must fit in half a period (ValueError otherwise)."""
-    R = shots.radius
-    t_l = (-R - shot[2]) / vel[2]
-    xl, yl = shot[0] + vel[0] * t_l, shot[1] + vel[1] * t_l
-    a_est, t_est = _contact_estimates(shots, material, abs(vel[2]))
-    travel = 1.5 * t_est * vel[0:2]
-    h = (model.mesh.x_step, model.mesh.y_step)
-    # the contact search box (1.25 R + travel) and a margin of two elements
-    contact = [1.25 * R + abs(travel[a]) + 2.0 * h[a] for a in (0, 1)]
-    for a, L in enumerate(model.period):
-        if 2.0 * contact[a] >= L:
-            raise ValueError(
-                f"periodic target: the period along {'xy'[a]} ({L:.4g} m) is too short for the shot's contact "
-                f"zone (2 x {contact[a]:.4g} m: 1.25 R + tangential travel + 2 elements each side)")
-    if options.window:
-        lat_x, lat_y, _ = _window_size(model, material, options, a_est, t_est, xl, yl)
-        reach = [(lat + max(-travel[a], 0.0), lat + max(travel[a], 0.0)) for a, lat in ((0, lat_x), (1, lat_y))]
-        reach = [(max(lo, c), max(hi, c)) for (lo, hi), c in zip(reach, contact)]
-    else:
-        reach = [(c, c) for c in contact]
-    return model.periodic_shift(xl, yl, reach[0], reach[1])
-
-
-def _local_size(axis: np.ndarray, c: float) -> float:
-    """Size (m) of the element of ``axis`` that holds coordinate ``c`` (the nearest end one outside)."""
-    k = int(np.clip(np.searchsorted(axis, c), 1, len(axis) - 1))
-    return float(axis[k] - axis[k - 1])
-
-
-def _window_size(model: Model, material: Material, options: "Options", a_est: float, t_est: float,
-                 xc: float, yc: float) -> tuple[float, float, float]:
-    """Window half widths along x, y and depth (m) for a shot landing at ``(xc, yc)``.
-
-    The largest of: ``window_lateral`` (``window_depth``) contact radii,
-    ``window_min_elements`` elements of the mesh there, and
-    ``window_min_wave`` of the wave travel during the contact ``c_p t_c``.
-    """
-    m = model.mesh
-    wave = options.window_min_wave * material.wave_speed * t_est
-    n = options.window_min_elements
-    lat_x = max(options.window_lateral * a_est, n * _local_size(m.x, xc), wave)
-    lat_y = max(options.window_lateral * a_est, n * _local_size(m.y, yc), wave)
-    depth = max(options.window_depth * a_est, float(m.z[min(int(math.ceil(n)), len(m.z) - 1)]), wave)
-    return lat_x, lat_y, depth
-
-
-def _window_validity(model: Model, material: Material, win: np.ndarray, xc: float, yc: float,
-                     t_est: float) -> str | None:
-    """Why the window ``win`` lies outside :data:`WINDOW_VALIDATED` (None when it does not).
-
-    Each held face counts: its distance from the landing point in elements of
-    the mesh there, and as a fraction of the wave travel ``c_p t_c``."""
-    m = model.mesh
-    hold = model.hold_flags(win)
-    hx, hy = _local_size(m.x, xc), _local_size(m.y, yc)
-    faces = ((hold[0], xc - m.x[win[0]], hx), (hold[1], m.x[win[1]] - xc, hx), (hold[2], yc - m.y[win[2]], hy),
-             (hold[3], m.y[win[3]] - yc, hy), (hold[5], m.z[win[5]], float(m.z[1] - m.z[0])))
-    held = [(d, d / h) for flag, d, h in faces if flag]
-    if not held:
-        return None
-    dist = min(d for d, _ in held)
-    elements = min(e for _, e in held)
-    wave = dist / (material.wave_speed * t_est)
-    if elements >= WINDOW_VALIDATED["elements"] and wave >= WINDOW_VALIDATED["wave"]:
-        return None
-    return (f"its nearest held face is {elements:.1f} elements and {wave:.3f} x c_p t_c (the wave travel during "
-            f"the {t_est * 1e6:.3g} us contact) from the landing point; the window error was measured only for "
-            f">= {WINDOW_VALIDATED['elements']:g} elements and >= {WINDOW_VALIDATED['wave']:g} c_p t_c "
-            "(BENCHMARKS.md section 2). Raise Options.window_min_elements / window_min_wave / window_lateral, "
-            "or run without a window (window=False) to check")
-
-
-def _contact_estimates(shots: Shots, material: Material, vn: float) -> tuple[float, float]:
-    """(contact radius m, contact time s) estimates for window sizing."""
-    h = hertz(shots.radius, shots.mass, max(vn, 1e-9), material.E, material.nu)
-    p = johnson_plastic(shots.radius, shots.mass, max(vn, 1e-9), 3.0 * material.A)
-    a = max(h["a"], p["a"])
-    # plastic contact lasts about pi/2 sqrt(m / (2 pi R p)) ~ the Hertz time; take the larger
-    tp = 0.5 * math.pi * math.sqrt(shots.mass / (2.0 * math.pi * shots.radius * 3.0 * material.A))
-    return a, max(h["t"], tp)
-
-
 def _hourglass_ratio(rec: np.ndarray) -> float:
     """Largest over the shots that touched of (peak hourglass energy / peak internal energy) of the impact.
 
     Peaks, not the final energies: in an elastic impact both return to ~0 once
     the shot has left, and their final ratio is noise of either sign."""
-    k_hg = SHOT_RECORD_FIELDS.index("hourglass_peak")
-    k_int = SHOT_RECORD_FIELDS.index("internal_peak")
-    hit = (rec[:, 1] > 0) & (rec[:, k_int] > 0) if len(rec) else np.zeros(0, bool)
-    return float(np.max(rec[hit, k_hg] / rec[hit, k_int])) if np.any(hit) else 0.0
+    hit = rec["hit"] & (rec["internal_peak"] > 0)
+    return float(np.max(rec["hourglass_peak"][hit] / rec["internal_peak"][hit])) if np.any(hit) else 0.0
+
+
+def reference_scales(shots: Shots) -> tuple[float, float]:
+    """(energy J, speed m/s) that scale the global relaxations' rest criteria: the largest impact
+    energy and shot speed of ``shots`` (1, 1 for no shots)."""
+    if not len(shots):
+        return 1.0, 1.0
+    v2 = float(np.max(np.sum(shots.velocities**2, axis=1)))
+    return 0.5 * shots.mass * v2, float(np.sqrt(v2))
+
+
+class ImpactRun:
+    """The small steps of the driver: a target set up for impacts and the state they act on.
+
+        run = ImpactRun(target, material, options, state=None)   # set up (or resume)
+        record = run.impact(shots, run.shots_done)               # one shot -> ShotRecord
+        snap = run.snapshot(shots)                               # relaxed copy -> Snapshot
+        run.checkpoint()                                         # state dict (resume from it)
+        result = run.result(shots)                               # final relaxation -> ImpactRunResult
+
+    :func:`run_impacts` is the loop over these. A caller that drives its own
+    sequence (shot ladders, checkpoints at its own times) uses them directly;
+    resuming from :meth:`checkpoint` with the same inputs gives bit-identical
+    results.
+
+    Attributes: ``model`` (:class:`Model`, static arrays), ``options``,
+    ``state`` (:class:`KernelState`, unrelaxed, changed in place by each
+    impact; its ``shot_records`` are refreshed by :meth:`checkpoint`),
+    ``histories`` (per-step histories of the impacts of this object, if
+    ``options.record``), ``window_note`` ("" or why the first window of this
+    object outside :data:`WINDOW_VALIDATED` is).
+    """
+
+    def __init__(self, target: Target, material: Material, options: Options = Options(), *,
+                 state: dict | KernelState | None = None):
+        self.options = options
+        self.material = material
+        self.model = model = Model(
+            target, material, hourglass=options.hourglass, hourglass_type=options.hourglass_type,
+            hourglass_plastic_floor=options.hourglass_plastic_floor, bulk_linear=options.bulk_linear,
+            bulk_quadratic=options.bulk_quadratic)
+        if state is None:
+            st = model.new_state()
+        elif isinstance(state, KernelState):
+            st = state.copy()
+        else:
+            st = KernelState.from_dict(state)
+        if st.x.shape != model.nodes0.shape or st.stress.shape[0] != model.mesh.n_elements:
+            raise ValueError("restored state does not match the target mesh")
+        self.state = st
+        self._records = [ShotRecord.from_row(r) for r in st.shot_records]
+        self.histories: list[dict] = []
+        self.window_note = ""
+
+    @property
+    def shots_done(self) -> int:
+        """Number of shots processed (the index of the next one)."""
+        return int(self.state.shot_index[0])
+
+    @property
+    def records(self) -> np.ndarray:
+        """The shot records so far, (shots_done,) structured array (:data:`SHOT_RECORD_DTYPE`)."""
+        return records_array(self._records)
+
+    def impact(self, shots: Shots, i: int) -> ShotRecord:
+        """Fly shot ``i`` of ``shots`` onto the target at rest, run the impact, settle; return its record.
+
+        ``i`` must be :attr:`shots_done` (shots are processed in order, each once).
+        Raises KernelInstabilityError (NaN, negative volume, distortion, step
+        collapse, runaway energy, a phase that never settles) or ValueError
+        (a shot the model cannot hold: symmetry plane, period too short).
+        """
+        if i != self.shots_done:
+            raise ValueError(f"ImpactRun.impact: shot {i} is not the next one (shots_done = {self.shots_done})")
+        model, options, material, st = self.model, self.options, self.material, self.state
+        top = model.nnx * model.nny
+        shot, frac = _shot_vector(shots, i, model, options.friction)
+        vel = shot[3:6].copy()
+        speed = float(np.linalg.norm(vel))
+        e_imp = 0.5 * shots.mass * speed**2 * frac
+        spin_in = shot[6:9].copy()  # components a symmetry plane cannot hold are 0
+        sx = sy = 0
+        if model.periodic and vel[2] > 0:
+            sx, sy = seam_shift(model, shot, vel, shots, material, options)
+            if sx or sy:
+                roll(model, st, sx, sy)
+                # the shot moves with the material; one landing beyond the domain wraps into it
+                shot[0] -= sx * model.mesh.x_step
+                shot[1] -= sy * model.mesh.y_step
+        t_hit = time_to_contact(st.x[:top], shot[0:3].copy(), vel, shots.radius) if speed > 0 else math.inf
+        common = dict(shot_index=i, vin_x=vel[0], vin_y=vel[1], vin_z=vel[2], impact_energy=e_imp / frac,
+                      spin_in_x=spin_in[0], spin_in_y=spin_in[1], spin_in_z=spin_in[2])
+        if not math.isfinite(t_hit):  # missed the target
+            rec = ShotRecord(hit=False, spin_out_x=spin_in[0], spin_out_y=spin_in[1], spin_out_z=spin_in[2],
+                             **common)
+        else:
+            rec = self._contact(shots, i, shot, vel, speed, e_imp, frac, t_hit, (sx, sy), common)
+        if sx or sy:
+            roll(model, st, -sx, -sy)
+        st.shot_index[0] = i + 1
+        self._records.append(rec)
+        return rec
+
+    def _contact(self, shots, i, shot, vel, speed, e_imp, frac, t_hit, shift, common) -> ShotRecord:
+        """The impact phase of a shot that will touch at ``t_hit`` (s from now); its record."""
+        model, options, material, st = self.model, self.options, self.material, self.state
+        # event-driven skip: free flight to just before contact
+        a_est, t_est = contact_estimates(shots, material, abs(vel[2]))
+        dt_est = options.dt_safety * float(np.min(np.diff(model.mesh.z))) / material.wave_speed
+        lead = options.lead_steps * dt_est
+        # negative when the given centre overlaps the surface: the shot is
+        # put back on its line (time_to_contact), the clock never runs back
+        t_fly = t_hit - lead
+        shot[0:3] += vel * t_fly
+        st.ctl[S.C_TIME] += max(t_fly, 0.0)
+        hit_xy = shot[0:2] + vel[0:2] * (t_hit - t_fly)
+        win = impact_window(model, material, options, a_est, t_est, hit_xy, vel)
+        why = window_validity(model, material, win, hit_xy[0], hit_xy[1], t_est) if options.window else None
+        if why is not None and not self.window_note:  # said once per ImpactRun, recorded for every shot
+            self.window_note = f"shot {i}: {why}"
+            if options.window_warning:
+                warnings.warn(f"shot {i}: the active window {tuple(int(w) for w in win)} (element box) is "
+                              f"outside what it was validated for: {why}", WindowValidityWarning, stacklevel=3)
+        sponge_n, sponge_a = sponge(model, material, options, win)
+        boundary = None
+        if options.window and options.window_boundary == "viscous-spring":
+            boundary = viscous_spring_boundary(model, win, hit_xy, spring=options.boundary_spring,
+                                               dashpot=options.boundary_dashpot, slab=options.boundary_slab,
+                                               eps_p=st.eps_p)
+        res = model.phase(
+            st, S.MODE_IMPACT, win, shot,
+            safety=options.dt_safety,
+            alpha=model.settle_alpha(win, options.settle_damping),
+            rest_ke=options.rest_ke_fraction * e_imp,
+            rest_v=options.rest_v_fraction * speed,
+            e_ref=e_imp,
+            force_scale=1.0 / frac,
+            dt_floor_fraction=options.dt_floor_fraction,
+            runaway=options.runaway_fraction,
+            max_steps=options.max_steps,
+            record_every=options.record_every,
+            record_capacity=200_000 if options.record else 0,
+            threads=options.threads,
+            sponge_layers=sponge_n,
+            sponge_alpha=sponge_a,
+            boundary=boundary,
+            boundary_settle={"viscous-spring": 0, "held": 1, "spring": 2}[options.boundary_settle],
+            where="impact",
+            shot_index=i,
+        )
+        info = res.info
+        sx, sy = shift
+        w = win + np.array([sx, sx, sy, sy, 0, 0])  # periodic: may extend beyond the mesh (wraps)
+        if options.record:
+            r = res.records
+            self.histories.append({
+                "time": r[:, 0], "force": r[:, 1:4], "centre": r[:, 4:7], "velocity": r[:, 7:10],
+                "ke_target": r[:, 10], "ke_shot": r[:, 11], "w_int": r[:, 12], "w_plastic": r[:, 13],
+                "w_hourglass": r[:, 14], "w_viscous": r[:, 15], "e_contact": r[:, 16], "e_damping": r[:, 17],
+                "dt": r[:, 18], "mass_fraction": frac,
+            })
+            if sx or sy:
+                self.histories[-1]["centre"] += np.array([sx * model.mesh.x_step, sy * model.mesh.y_step, 0.0])
+        return ShotRecord(
+            hit=bool(info[S.I_T_CONTACT] >= 0),
+            t_contact=info[S.I_T_CONTACT], t_separate=info[S.I_T_SEPARATE],
+            contact_duration=info[S.I_T_SEPARATE] - info[S.I_T_CONTACT],
+            vout_x=info[S.I_VX], vout_y=info[S.I_VY], vout_z=info[S.I_VZ],
+            restitution=-info[S.I_VZ] / vel[2] if vel[2] != 0 else np.nan,
+            max_approach=info[S.I_MAX_APPROACH], max_overlap=info[S.I_MAX_OVERLAP],
+            peak_force=info[S.I_PEAK_FORCE], max_contact_radius=info[S.I_MAX_RADIUS],
+            steps=int(info[S.I_STEPS]), energy_error=info[S.I_E_ERR] / e_imp,
+            win_i0=w[0], win_i1=w[1], win_j0=w[2], win_j1=w[3], win_k0=w[4], win_k1=w[5],
+            contact_radius=math.sqrt(2.5 * info[S.I_R2_AT_PEAK]),
+            hourglass_peak=info[S.I_HG_PEAK] / e_imp, internal_peak=info[S.I_INT_PEAK] / e_imp,
+            # the phase leaves the rebound spin in the shot vector
+            spin_out_x=shot[6], spin_out_y=shot[7], spin_out_z=shot[8],
+            window_validated=why is None,
+            **common,
+        )
+
+    def snapshot(self, reference: Shots, *, where: str | None = None) -> Snapshot:
+        """A copy of the state brought to static equilibrium over the whole mesh (the run's state is untouched).
+
+        ``reference``: the shots whose largest impact energy and speed scale the
+        rest criteria (:func:`reference_scales`; the run's shots)."""
+        n = self.shots_done
+        rs, _ = relax(self.model, self.state, self.options, *reference_scales(reference),
+                      where=where or f"snapshot relaxation after {n} shots")
+        return Snapshot(n, rs.stress.copy(), rs.eps_p.copy(), rs.x - self.model.nodes0)
+
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        """The full state as a dict of numpy arrays, records included (resume from it)."""
+        return self._final_state().to_dict()
+
+    def _final_state(self) -> KernelState:
+        return self.state.with_records(self.records)
+
+    def result(self, reference: Shots, *, snapshots: dict | None = None, wall_time: float = 0.0) -> ImpactRunResult:
+        """The run so far as an :class:`ImpactRunResult`: the state relaxed over the whole mesh
+        (``options.final_relaxation``; rest criteria scaled by ``reference``, :meth:`snapshot`)."""
+        final = self._final_state()
+        model = self.model
+        if self.options.final_relaxation:
+            rs, _ = relax(model, final, self.options, *reference_scales(reference), where="final relaxation")
+        else:
+            rs = final
+        rec = final.shot_records
+        en = final.energy
+        energy = {"w_int": en[S.E_INT], "w_plastic": en[S.E_PL], "w_hourglass": en[S.E_HG],
+                  "w_viscous": en[S.E_VISC], "e_contact": en[S.E_CONTACT], "e_damping": en[S.E_DAMP]}
+        return ImpactRunResult(
+            stress=rs.stress.copy(),
+            eps_p=rs.eps_p.copy(),
+            displacement=rs.x - model.nodes0,
+            centroids=model.centroids,
+            nodes=model.nodes0,
+            snapshots=dict(snapshots or {}),
+            shots=record_columns(rec),
+            histories=list(self.histories),
+            energy=energy,
+            hourglass_ratio=_hourglass_ratio(rec),
+            energy_error=float(np.max(rec["energy_error"][rec["hit"]])) if np.any(rec["hit"]) else 0.0,
+            final_state=final,
+            wall_time=wall_time,
+            window_outside_validated=self.window_note,
+        )
 
 
 def run_impacts(
@@ -479,7 +585,7 @@ def run_impacts(
     material : Material -- elastic constants + Johnson-Cook parameters (eq. 1).
     shots : Shots -- centres (n,3) m, velocities (n,3) m/s, radius m, density kg/m^3, spins.
     options : Options -- numerics.
-    state : a dict from ``state_exporter()`` / ``KernelState.to_dict()`` (or a
+    state : a dict from :meth:`ImpactRun.checkpoint` / ``KernelState.to_dict()`` (or a
         KernelState) to resume from; shots before its ``shot_index`` are skipped.
     snapshot_after : shot counts (e.g. 10, 20, 40) after which a relaxed copy is stored.
     on_shot_done : ``f(shot_index, state_exporter)`` called between shots, after
@@ -489,190 +595,22 @@ def run_impacts(
         records travel in the state; snapshots do not (a resumed run returns
         the snapshots taken after the resume point, the caller keeps earlier ones).
 
+    The loop over :class:`ImpactRun`'s steps; the rest criteria of every
+    relaxation are scaled by the largest impact of ``shots``.
+
     Raises
     ------
     KernelInstabilityError : NaN, negative volume, distortion, step collapse,
         runaway energy, or a phase that never settles.
     """
     t_wall = _time.perf_counter()
-    model = Model(target, material, hourglass=options.hourglass, hourglass_type=options.hourglass_type,
-                  hourglass_plastic_floor=options.hourglass_plastic_floor, bulk_linear=options.bulk_linear,
-                  bulk_quadratic=options.bulk_quadratic)
-    if state is None:
-        st = model.new_state()
-    elif isinstance(state, KernelState):
-        st = state.copy()
-    else:
-        st = KernelState.from_dict(state)
-    if st.x.shape != model.nodes0.shape or st.stress.shape[0] != model.mesh.n_elements:
-        raise ValueError("restored state does not match the target mesh")
-    records = [row for row in st.shot_records]
-    histories = []
-    snapshots = {}
+    run = ImpactRun(target, material, options, state=state)
     snap_set = {int(n) for n in snapshot_after}
-    e_ref = 0.5 * shots.mass * float(np.max(np.sum(shots.velocities**2, axis=1))) if len(shots) else 1.0
-    v_ref = float(np.sqrt(np.max(np.sum(shots.velocities**2, axis=1)))) if len(shots) else 1.0
-    top = model.nnx * model.nny
-
-    def exporter():
-        return st.with_records(np.array(records).reshape(-1, len(SHOT_RECORD_FIELDS))).to_dict()
-
-    start = int(st.shot_index[0])
-    window_note = ""  # the first outside-the-envelope window of this call (checked until one is found)
-    for i in range(start, len(shots)):
-        shot, frac = _shot_vector(shots, i, model, options.friction)
-        vel = shot[3:6].copy()
-        speed = float(np.linalg.norm(vel))
-        e_imp = 0.5 * shots.mass * speed**2 * frac
-        row = np.zeros(len(SHOT_RECORD_FIELDS))
-        row[0] = i
-        row[5:8] = vel
-        row[18] = e_imp / frac
-        row[28:31] = shot[6:9]  # spin in (components a symmetry plane cannot hold are 0)
-        row[31:34] = shot[6:9]  # spin out: unchanged unless it touches
-        sx = sy = 0
-        if model.periodic and vel[2] > 0:
-            sx, sy = _periodic_shift(model, shot, vel, shots, material, options)
-            if sx or sy:
-                model.roll(st, sx, sy)
-                # the shot moves with the material; one landing beyond the domain wraps into it
-                shot[0] -= sx * model.mesh.x_step
-                shot[1] -= sy * model.mesh.y_step
-        t_hit = time_to_contact(st.x[:top], shot[0:3].copy(), vel, shots.radius) if speed > 0 else math.inf
-        if not math.isfinite(t_hit):
-            row[1] = 0.0  # missed the target
-            records.append(row)
-        else:
-            # event-driven skip: free flight to just before contact
-            a_est, t_est = _contact_estimates(shots, material, abs(vel[2]))
-            dt_est = options.dt_safety * float(np.min(np.diff(model.mesh.z))) / material.wave_speed
-            lead = options.lead_steps * dt_est
-            # negative when the given centre overlaps the surface: the shot is
-            # put back on its line (time_to_contact), the clock never runs back
-            t_fly = t_hit - lead
-            shot[0:3] += vel * t_fly
-            st.ctl[S.C_TIME] += max(t_fly, 0.0)
-            hit_xy = shot[0:2] + vel[0:2] * (t_hit - t_fly)
-            if options.window:
-                travel = 1.5 * t_est * vel[0:2]
-                lat_x, lat_y, depth = _window_size(model, material, options, a_est, t_est, hit_xy[0], hit_xy[1])
-                win = model.window_box(
-                    hit_xy[0], hit_xy[1],
-                    (lat_x + max(-travel[0], 0.0), lat_x + max(travel[0], 0.0)),
-                    (lat_y + max(-travel[1], 0.0), lat_y + max(travel[1], 0.0)),
-                    depth,
-                )
-                why = None if window_note else _window_validity(model, material, win, hit_xy[0], hit_xy[1], t_est)
-                if why is not None:
-                    window_note = f"shot {i}: {why}"
-                if why is not None and options.window_warning:
-                    warnings.warn(f"shot {i}: the active window {tuple(int(w) for w in win)} (element box) is "
-                                  f"outside what it was validated for: {why}", WindowValidityWarning, stacklevel=2)
-            else:
-                win = model.full_window
-            if model.periodic:
-                # a window that reaches the seam spans the period (the tying needs both sides)
-                if win[0] == 0 or win[1] == model.nx:
-                    win[0], win[1] = 0, model.nx
-                if win[2] == 0 or win[3] == model.ny:
-                    win[2], win[3] = 0, model.ny
-            sponge_n, sponge_a = 0, 0.0
-            if options.window and options.window_sponge > 0:
-                m_ = model.mesh
-                ext = min(0.5 * (m_.x[win[1]] - m_.x[win[0]]), 0.5 * (m_.y[win[3]] - m_.y[win[2]]), m_.z[win[5]])
-                hmin = float(np.min(np.diff(m_.z)))
-                sponge_n = max(2, int(round(options.window_sponge * ext / hmin)))
-                sponge_a = options.sponge_damping * material.wave_speed / (sponge_n * hmin)
-            boundary = None
-            if options.window and options.window_boundary == "viscous-spring":
-                boundary = model.window_boundary(win, hit_xy, spring=options.boundary_spring,
-                                                 dashpot=options.boundary_dashpot, slab=options.boundary_slab,
-                                                 eps_p=st.eps_p)
-            cap = 0
-            if options.record:
-                cap = 200_000
-            res = model.phase(
-                st, S.MODE_IMPACT, win, shot,
-                safety=options.dt_safety,
-                alpha=model.settle_alpha(win, options.settle_damping),
-                rest_ke=options.rest_ke_fraction * e_imp,
-                rest_v=options.rest_v_fraction * speed,
-                e_ref=e_imp,
-                force_scale=1.0 / frac,
-                dt_floor_fraction=options.dt_floor_fraction,
-                runaway=options.runaway_fraction,
-                max_steps=options.max_steps,
-                record_every=options.record_every,
-                record_capacity=cap,
-                threads=options.threads,
-                sponge_layers=sponge_n,
-                sponge_alpha=sponge_a,
-                boundary=boundary,
-                boundary_settle={"viscous-spring": 0, "held": 1, "spring": 2}[options.boundary_settle],
-                where="impact",
-                shot_index=i,
-            )
-            info = res.info
-            row[1] = 1.0 if info[S.I_T_CONTACT] >= 0 else 0.0
-            row[2] = info[S.I_T_CONTACT]
-            row[3] = info[S.I_T_SEPARATE]
-            row[4] = info[S.I_T_SEPARATE] - info[S.I_T_CONTACT]
-            row[8:11] = info[S.I_VX: S.I_VZ + 1]
-            row[11] = -info[S.I_VZ] / vel[2] if vel[2] != 0 else np.nan
-            row[12] = info[S.I_MAX_APPROACH]
-            row[13] = info[S.I_MAX_OVERLAP]
-            row[14] = info[S.I_PEAK_FORCE]
-            row[15] = info[S.I_MAX_RADIUS]
-            row[16] = info[S.I_STEPS]
-            row[17] = info[S.I_E_ERR] / e_imp
-            row[19:25] = win + np.array([sx, sx, sy, sy, 0, 0])  # periodic: may extend beyond the mesh (wraps)
-            row[25] = math.sqrt(2.5 * info[S.I_R2_AT_PEAK])
-            row[26] = info[S.I_HG_PEAK] / e_imp
-            row[27] = info[S.I_INT_PEAK] / e_imp
-            row[31:34] = shot[6:9]  # the phase leaves the rebound spin in the shot vector
-            records.append(row)
-            if options.record:
-                r = res.records
-                histories.append({
-                    "time": r[:, 0], "force": r[:, 1:4], "centre": r[:, 4:7], "velocity": r[:, 7:10],
-                    "ke_target": r[:, 10], "ke_shot": r[:, 11], "w_int": r[:, 12], "w_plastic": r[:, 13],
-                    "w_hourglass": r[:, 14], "w_viscous": r[:, 15], "e_contact": r[:, 16], "e_damping": r[:, 17],
-                    "dt": r[:, 18], "mass_fraction": frac,
-                })
-                if sx or sy:
-                    histories[-1]["centre"] += np.array([sx * model.mesh.x_step, sy * model.mesh.y_step, 0.0])
-        if sx or sy:
-            model.roll(st, -sx, -sy)
-        st.shot_index[0] = i + 1
-        if (i + 1) in snap_set:
-            rs, _ = relax(model, st, options, e_ref, v_ref, where=f"snapshot relaxation after {i + 1} shots")
-            snapshots[i + 1] = Snapshot(i + 1, rs.stress.copy(), rs.eps_p.copy(), rs.x - model.nodes0)
+    snapshots = {}
+    for i in range(run.shots_done, len(shots)):
+        run.impact(shots, i)
+        if i + 1 in snap_set:
+            snapshots[i + 1] = run.snapshot(shots)
         if on_shot_done is not None:
-            on_shot_done(i, exporter)
-    final = st.with_records(np.array(records).reshape(-1, len(SHOT_RECORD_FIELDS)))
-    if options.final_relaxation:
-        rs, _ = relax(model, final, options, e_ref, v_ref, where="final relaxation")
-    else:
-        rs = final
-    rec = final.shot_records
-    shot_dict = {name: rec[:, k].copy() for k, name in enumerate(SHOT_RECORD_FIELDS)}
-    en = final.energy
-    energy = {"w_int": en[S.E_INT], "w_plastic": en[S.E_PL], "w_hourglass": en[S.E_HG], "w_viscous": en[S.E_VISC],
-              "e_contact": en[S.E_CONTACT], "e_damping": en[S.E_DAMP]}
-    hit = rec[:, 1] > 0 if len(rec) else np.zeros(0, bool)
-    return ImpactRunResult(
-        stress=rs.stress.copy(),
-        eps_p=rs.eps_p.copy(),
-        displacement=rs.x - model.nodes0,
-        centroids=model.centroids,
-        nodes=model.nodes0,
-        snapshots=snapshots,
-        shots=shot_dict,
-        histories=histories,
-        energy=energy,
-        hourglass_ratio=_hourglass_ratio(rec),
-        energy_error=float(np.max(rec[hit, 17])) if np.any(hit) else 0.0,
-        final_state=final,
-        wall_time=_time.perf_counter() - t_wall,
-        window_outside_validated=window_note,
-    )
+            on_shot_done(i, run.checkpoint)
+    return run.result(shots, snapshots=snapshots, wall_time=_time.perf_counter() - t_wall)

@@ -14,12 +14,13 @@ import numba
 import numpy as np
 
 from peenflow.fe import solver as S
-from peenflow.fe.boundary import TIE_X, TIE_Y, TIED, check_periodic_mesh, node_fixity, tie_masters
-from peenflow.fe.element import element_rows
+from peenflow.fe.boundary import TIED, node_fixity
 from peenflow.fe.johnson_cook import M_RATE_ON, Material
 from peenflow.fe.mesh import BoxMesh
+from peenflow.fe.periodic import check_periodic_mesh, tie_masters
 from peenflow.fe.safety import check_status
 from peenflow.fe.state import KernelState
+from peenflow.fe.window import WindowBoundary, exterior_update
 
 
 _MULTIGRID_CACHE: dict = {}
@@ -40,7 +41,7 @@ class Target:
 
     mesh : BoxMesh (m);  lateral : "symmetric" | "free" | "periodic";  bottom : "fixed" | "free".
 
-    ``"periodic"`` ties the lateral faces (:mod:`peenflow.fe.boundary`) and
+    ``"periodic"`` ties the lateral faces (:mod:`peenflow.fe.periodic`) and
     needs a uniform lateral spacing along x and y (ValueError otherwise):
     the driver moves the state by whole elements so that each impact's
     window stays clear of the seam (:func:`peenflow.fe.impact.run_impacts`).
@@ -61,19 +62,6 @@ class Target:
     @property
     def periodic(self) -> bool:
         return self.lateral == "periodic"
-
-
-@dataclass(frozen=True)
-class WindowBoundary:
-    """Viscous-spring window faces (:meth:`Model.window_boundary`).
-
-    nodes : (nb,) node indices; stiffness : (nb, 3) N/m and damping :
-    (nb, 3) N s/m per global component (diagonal: the faces are axis-aligned).
-    """
-
-    nodes: np.ndarray
-    stiffness: np.ndarray
-    damping: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -154,60 +142,6 @@ class Model:
             u[self._slaves] = u[self.masters[self._slaves]]
         return u
 
-    def roll(self, state: KernelState, sx: int, sy: int) -> None:
-        """Periodic target: move the material by ``(-sx, -sy)`` whole elements, in place.
-
-        What was at element column ``i`` is afterwards at ``(i - sx) mod nx``
-        (rows likewise): the displacements ``x - X0``, velocities, forces and
-        every element field are permuted; slaves are unfolded again. The
-        target is translation-invariant laterally (uniform spacing), so a
-        rolled state is the same physical state seen from another origin;
-        ``roll(s, -sx, -sy)`` undoes it up to the round-off of ``x - X0``.
-        """
-        if not self.periodic:
-            raise ValueError("roll: only a periodic target can be rolled")
-        sx %= self.nx
-        sy %= self.ny
-        if sx == 0 and sy == 0:
-            return
-        nnz, nny, nnx, nz, ny, nx = self.nnz, self.nny, self.nnx, self.nz, self.ny, self.nx
-
-        def nodal(a, unfold):
-            # on a new array, assigned back (a reshape of a non-contiguous array would be a copy)
-            a3 = np.array(a).reshape(nnz, nny, nnx, 3)
-            u = np.roll(a3[:, :ny, :nx], (-sy, -sx), axis=(1, 2))
-            a3[:, :ny, :nx] = u
-            a3[:, :ny, nx] = u[:, :, 0] if unfold else 0.0
-            a3[:, ny, :] = a3[:, 0, :] if unfold else 0.0
-            a[:] = a3.reshape(a.shape)
-
-        u = state.x - self.nodes0
-        nodal(u, True)
-        state.x[:] = self.nodes0 + u
-        lx, ly = self.period
-        slaves = self._slaves
-        state.x[slaves] = state.x[self.masters[slaves]]
-        state.x[slaves, 0] += np.where(self.bc[slaves] & TIE_X, lx, 0.0)
-        state.x[slaves, 1] += np.where(self.bc[slaves] & TIE_Y, ly, 0.0)
-        nodal(state.v, True)
-        nodal(state.f, False)
-        for a in (state.stress, state.eps_p, state.sy_static, state.hg, state.temp):
-            a[:] = np.roll(a.reshape((nz, ny, nx) + a.shape[1:]), (-sy, -sx), axis=(1, 2)).reshape(a.shape)
-
-    def periodic_shift(self, xl: float, yl: float, reach_x: tuple, reach_y: tuple) -> tuple[int, int]:
-        """Whole-element shift ``(sx, sy)`` for :meth:`roll` that keeps
-        ``[xl - reach_x[0], xl + reach_x[1]] x [...]`` clear of the seam: 0
-        along an axis where that box already is (at least one element from
-        it), else the one that brings ``xl`` (``yl``) to the middle column (row)."""
-        out = []
-        for c, (lo, hi), ax, n in ((xl, reach_x, self.mesh.x, self.nx), (yl, reach_y, self.mesh.y, self.ny)):
-            if c - lo >= ax[1] and c + hi <= ax[-2]:
-                out.append(0)
-            else:
-                h = (ax[-1] - ax[0]) / n
-                out.append(int(math.floor((c - ax[0]) / h)) - n // 2)
-        return out[0], out[1]
-
     def new_state(self) -> KernelState:
         m = self.material
         from peenflow.fe.johnson_cook import static_flow_stress, thermal_factor
@@ -256,7 +190,7 @@ class Model:
         threads: int = 1,
         sponge_layers: int = 0,
         sponge_alpha: float = 0.0,
-        boundary: "WindowBoundary | None" = None,
+        boundary: WindowBoundary | None = None,
         boundary_settle: int = 0,
         where: str = "impact",
         shot_index=None,
@@ -264,7 +198,8 @@ class Model:
     ) -> PhaseResult:
         """Run one phase on ``state`` (in place) and raise on instability.
 
-        ``boundary``: viscous-spring window faces (:meth:`window_boundary`)
+        ``boundary``: viscous-spring window faces
+        (:func:`peenflow.fe.window.viscous_spring_boundary`)
         instead of held ones; their frozen reactions are taken here, from the
         window's element forces at the current state; ``boundary_settle``:
         what they do once the shot has left (0 springs and dashpots, 1 held,
@@ -328,149 +263,8 @@ class Model:
         if raise_on_error:
             check_status(status, where=where, shot_index=shot_index, time=float(ctl[S.C_TIME]))
         if boundary is not None and status == S.ST_OK and len(bnodes) > 0:
-            self._exterior_update(s, win, hold, bnodes, bx0, where, shot_index)
+            exterior_update(self, s, win, hold, bnodes, bx0, where, shot_index)
         return PhaseResult(int(status), info, rec[: int(info[S.I_NREC])].copy())
-
-    def _exterior_update(self, s: KernelState, win, hold, bnodes, bx0, where, shot_index) -> None:
-        """Let the exterior elements touching a viscous-spring face see how far its nodes moved.
-
-        The exterior is not integrated during the phase, so without this the
-        face nodes' displacement ``du`` would be lost to the elements on the
-        other side (they would take their moved shape as stress-free: an
-        eigenstrain at the window's edge, +50 MPa on the strip REV's
-        averaged profile). One element pass over that layer of elements
-        (rate term off) with ``v = du`` on the face nodes, ``v = 0`` on the
-        others and a 1 s step applies it, as a static relaxation's
-        correction would; the global relaxation then spreads it.
-        """
-        i0, i1, j0, j1, k0, k1 = (int(w) for w in win)
-        a0, a1 = i0 - int(hold[0]), i1 + int(hold[1])
-        b0, b1 = j0 - int(hold[2]), j1 + int(hold[3])
-        boxes = [(a0, a1, b0, b1, k1, k1 + int(hold[5]))]  # below the window (with the corners)
-        boxes += [(a0, i0, b0, b1, k0, k1), (i1, a1, b0, b1, k0, k1), (i0, i1, b0, j0, k0, k1), (i0, i1, j1, b1, k0, k1)]
-        v_save = s.v.copy()
-        f_save = s.f.copy()
-        s.v[:] = 0.0
-        s.v[bnodes] = s.x[bnodes] - bx0
-        for bi0, bi1, bj0, bj1, bk0, bk1 in boxes:
-            if bi1 <= bi0 or bj1 <= bj0 or bk1 <= bk0:
-                continue
-            _, st, wi, wp, wh, wv = element_rows(s.x, s.v, s.f, s.stress, s.eps_p, s.sy_static, s.hg, s.temp,
-                                                 self.vol0, self.mat_static, 1.0, self.nnx, self.nny, self.nx,
-                                                 self.ny, bi0, bi1, bj0, bj1, bk0, bk1)
-            check_status(st, where=where + " (exterior update)", shot_index=shot_index,
-                         time=float(s.ctl[S.C_TIME]))
-            s.energy[S.E_INT] += wi
-            s.energy[S.E_PL] += wp
-            s.energy[S.E_HG] += wh
-            s.energy[S.E_VISC] += wv
-        s.v[:] = v_save
-        s.f[:] = f_save
-
-    def window_boundary(self, win: np.ndarray, source: np.ndarray, *, spring: float = 1.0,
-                        dashpot: float = 1.0, slab: float = 1.0,
-                        eps_p: np.ndarray | None = None) -> "WindowBoundary | None":
-        """Viscous-spring boundary on the window faces interior to the mesh.
-
-        Each node of such a face gets, per unit of its tributary area on the
-        face: Lysmer-Kuhlemeyer dashpots ``rho c_p`` normal and ``rho c_s``
-        tangential (they absorb waves hitting the face head-on), in parallel
-        with springs ``alpha_N G / R + M / e`` normal and
-        ``alpha_T G / R + G / e`` tangential. ``alpha G / R`` is the static
-        stiffness of an exterior half-space seen from a point source (``R``
-        the node's distance from ``source``, the impact point at z = 0;
-        ``alpha_N = 4/3``, ``alpha_T = 2/3``: the 3-D viscous-spring
-        boundary of Liu et al. 2006, Earthq. Eng. Eng. Vib. 5:93). ``M / e``
-        and ``G / e`` (``M = rho c_p^2``) are those of the slab of thickness
-        ``e`` between the face and the mesh face beyond it, counted only for
-        the components that mesh face holds (normal for a symmetric side,
-        all three for a fixed bottom): the exterior of a finite target is
-        stiffer than a half-space, and a thin one (a window nearly as large
-        as the mesh) should act almost as held faces. The sum reaches both
-        limits; it is an interpolation, checked against full-mesh runs
-        (BENCHMARKS.md section 2). The springs let the window rest on
-        something while the shot presses slowly (contact time >> wave
-        transit) and while it settles. ``spring`` scales the springs,
-        ``dashpot`` the dashpots, ``slab`` the slab term (1 = the values
-        above). Nodes on two or three faces (edges, corners) add the faces'
-        contributions.
-
-        Given ``eps_p`` (n_elements,), face nodes touching an element that
-        has already yielded stay held: there the frozen reaction acts as a
-        dead load on material at yield, which soft springs cannot stop from
-        flowing (a 20-shot sequence on the strip REV drifted such faces by
-        7 um and ran away; BENCHMARKS.md section 2).
-
-        Returns None when no face is interior (full mesh).
-        """
-        hold = self.hold_flags(win)
-        if not hold.any():
-            return None
-        m = self.mesh
-        mat = self.material
-        rho = mat.density
-        G = mat.mu
-        cp = mat.wave_speed
-        cs = math.sqrt(G / rho)
-        alpha_n, alpha_t = 4.0 / 3.0, 2.0 / 3.0
-        i0, i1, j0, j1, k0, k1 = (int(w) for w in win)
-
-        def trib(ax, lo, hi):
-            idx = np.arange(lo, hi + 1)
-            return 0.5 * (ax[np.minimum(idx + 1, hi)] - ax[np.maximum(idx - 1, lo)])
-
-        tx, ty, tz = trib(m.x, i0, i1), trib(m.y, j0, j1), trib(m.z, k0, k1)
-        X = self.nodes0.reshape(self.nnz, self.nny, self.nnx, 3)[k0:k1 + 1, j0:j1 + 1, i0:i1 + 1]
-        R = np.sqrt((X[..., 0] - source[0]) ** 2 + (X[..., 1] - source[1]) ** 2 + X[..., 2] ** 2)
-        R = np.maximum(R, float(np.min(np.diff(m.z))))
-        M = rho * cp * cp
-        sym = self.target.lateral == "symmetric"
-        fixed = self.target.bottom == "fixed"
-        stiff = np.zeros(X.shape)
-        damp = np.zeros(X.shape)
-        on = np.zeros(X.shape[:3], dtype=bool)
-        # faces: (hold flag, normal axis, node slice, tributary area, distance to the mesh face beyond,
-        #         that mesh face holds the normal / the tangential components)
-        faces = (
-            (hold[0], 0, np.s_[:, :, 0], np.outer(tz, ty), X[:, :, 0, 0] - m.x[0], sym, False),
-            (hold[1], 0, np.s_[:, :, -1], np.outer(tz, ty), m.x[-1] - X[:, :, -1, 0], sym, False),
-            (hold[2], 1, np.s_[:, 0, :], np.outer(tz, tx), X[:, 0, :, 1] - m.y[0], sym, False),
-            (hold[3], 1, np.s_[:, -1, :], np.outer(tz, tx), m.y[-1] - X[:, -1, :, 1], sym, False),
-            (hold[4], 2, np.s_[0, :, :], np.outer(ty, tx), X[0, :, :, 2] - m.z[0], False, False),
-            (hold[5], 2, np.s_[-1, :, :], np.outer(ty, tx), m.z[-1] - X[-1, :, :, 2], fixed, fixed),
-        )
-        for held, d, sl, area, e, n_held, t_held in faces:
-            if not held:
-                continue
-            on[sl] = True
-            kn = alpha_n * G / R[sl] + (slab * M / e if n_held else 0.0)
-            kt = alpha_t * G / R[sl] + (slab * G / e if t_held else 0.0)
-            for c in range(3):
-                stiff[sl + (c,)] += spring * area * (kn if c == d else kt)
-                damp[sl + (c,)] += dashpot * rho * area * (cp if c == d else cs)
-        if eps_p is not None:
-            # nodes touching a yielded element (any of the up to 8 around it) stay held
-            ep = eps_p.reshape(self.nz, self.ny, self.nx)
-            yielded = np.pad(ep > 0.0, 1)  # element (k, j, i) at [k + 1, j + 1, i + 1]
-            near = np.zeros((self.nnz, self.nny, self.nnx), dtype=bool)
-            for dk in (0, 1):
-                for dj in (0, 1):
-                    for di in (0, 1):
-                        near |= yielded[dk:dk + self.nnz, dj:dj + self.nny, di:di + self.nnx]
-            on &= ~near[k0:k1 + 1, j0:j1 + 1, i0:i1 + 1]
-        kk, jj, ii = np.nonzero(on)
-        nodes = (ii + i0) + self.nnx * ((jj + j0) + self.nny * (kk + k0))
-        stiff = stiff[kk, jj, ii]
-        damp = damp[kk, jj, ii]
-        if self.periodic and np.any(self.bc[nodes] & TIED):
-            # a slave on a face (window spanning the period): its springs and dashpots act on its master
-            mnodes = self.masters[nodes]
-            uniq, inv = np.unique(mnodes, return_inverse=True)
-            st_, dp_ = np.zeros((len(uniq), 3)), np.zeros((len(uniq), 3))
-            np.add.at(st_, inv, stiff)
-            np.add.at(dp_, inv, damp)
-            nodes, stiff, damp = uniq, st_, dp_
-        return WindowBoundary(nodes.astype(np.int64), np.ascontiguousarray(stiff), np.ascontiguousarray(damp))
 
     def settle_alpha(self, win: np.ndarray, settle_damping: float) -> float:
         """Mass-proportional damping rate (1/s) for settling a window / the mesh.

@@ -95,7 +95,7 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
     reflecting the impact's waves back to the contact.
 
     Window-face nodes listed in ``bnodes`` (viscous-spring boundary, see
-    :meth:`peenflow.fe.model.Model.window_boundary`) are not held: they move
+    :func:`peenflow.fe.window.viscous_spring_boundary`) are not held: they move
     under the window's element forces plus the exterior's
     ``bf0 - bk (x - bx0) - bdash bcd v`` (N; per component, faces are axis-aligned
     so the spring and dashpot matrices are diagonal). The dashpot is

@@ -11,22 +11,10 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from peenflow.fe.records import SHOT_RECORD_DTYPE, SHOT_RECORD_FIELDS, as_records
 from peenflow.fe.solver import N_CTL, N_EN
 
-#: columns of ``KernelState.shot_records`` (one row per processed shot)
-SHOT_RECORD_FIELDS = (
-    "shot_index", "hit",  # 1 if the shot touched the target
-    "t_contact", "t_separate", "contact_duration",
-    "vin_x", "vin_y", "vin_z", "vout_x", "vout_y", "vout_z", "restitution",
-    "max_approach", "max_overlap", "peak_force", "max_contact_radius",
-    "steps", "energy_error", "impact_energy",
-    "win_i0", "win_i1", "win_j0", "win_j1", "win_k0", "win_k1",
-    "contact_radius",  # Hertz-equivalent radius sqrt(2.5 <r^2>_force) at peak force, m
-    "hourglass_peak",  # peak hourglass energy of the impact / impact energy
-    "internal_peak",  # peak internal (stress) energy of the impact / impact energy
-    "spin_in_x", "spin_in_y", "spin_in_z",  # the shot's spin before the impact, rad/s
-    "spin_out_x", "spin_out_y", "spin_out_z",  # and after it (rebound spin), rad/s
-)
+__all__ = ["KernelState", "SHOT_RECORD_FIELDS"]
 
 
 @dataclass(frozen=True)
@@ -44,7 +32,8 @@ class KernelState:
       E_contact (lost in contact + friction), E_damping;
     ctl : (14,) solver control scalars (dt_prev s, dt_next s, time s, ...);
     shot_index : (1,) int64, number of shots processed;
-    shot_records : (n_done, len(SHOT_RECORD_FIELDS)) per-shot summaries.
+    shot_records : (n_done,) per-shot summaries, a structured array of
+      :data:`peenflow.fe.records.SHOT_RECORD_DTYPE` (fields by name).
     """
 
     x: np.ndarray
@@ -75,7 +64,7 @@ class KernelState:
             energy=np.zeros(N_EN),
             ctl=np.zeros(N_CTL),
             shot_index=np.zeros(1, dtype=np.int64),
-            shot_records=np.zeros((0, len(SHOT_RECORD_FIELDS))),
+            shot_records=np.zeros(0, dtype=SHOT_RECORD_DTYPE),
         )
 
     def to_dict(self) -> dict[str, np.ndarray]:
@@ -84,11 +73,16 @@ class KernelState:
 
     @classmethod
     def from_dict(cls, d: dict) -> "KernelState":
-        """Restore (deep copy) from :meth:`to_dict` output."""
+        """Restore (deep copy) from :meth:`to_dict` output.
+
+        The shot records are read by field name (:func:`peenflow.fe.records.as_records`):
+        a state whose records are a table by column position (written before
+        2026-12-02) is refused with ValueError."""
         missing = [fl.name for fl in fields(cls) if fl.name not in d]
         if missing:
             raise ValueError(f"state dict lacks {missing}")
-        return cls(**{fl.name: np.array(d[fl.name], copy=True) for fl in fields(cls)})
+        out = {fl.name: np.array(d[fl.name], copy=True) for fl in fields(cls) if fl.name != "shot_records"}
+        return cls(**out, shot_records=as_records(d["shot_records"]))
 
     def copy(self) -> "KernelState":
         return KernelState.from_dict(self.to_dict())

@@ -190,40 +190,6 @@ def test_viscous_spring_window_error_small(vs55, full55):
     assert vs55.energy_error < 0.01
 
 
-def test_viscous_spring_coefficients():
-    """Dashpots rho c per tributary face area; springs alpha G / R (+ the slab M / e in front of a held mesh face)."""
-    from peenflow.fe.mesh import BoxMesh
-    from peenflow.fe.model import Model
-
-    h = 50e-6
-    ax = np.linspace(-1e-3, 1e-3, 41)
-    mesh = BoxMesh(ax, ax.copy(), np.linspace(0.0, 1e-3, 21))
-    mat = Material(**SAE1070)
-    m = Model(Target(mesh), mat)
-    win = np.array([10, 30, 10, 30, 0, 10])
-    cp, cs, G, rho = mat.wave_speed, np.sqrt(mat.mu / mat.density), mat.mu, mat.density
-    b0 = m.window_boundary(win, (0.0, 0.0), slab=0.0)
-    # every node of the 4 lateral faces and the bottom, each once
-    assert len(b0.nodes) == len(np.unique(b0.nodes)) == 21 * 21 * 11 - 19 * 19 * 10
-    bottom, side = 1e-3 * 1e-3, 1e-3 * 0.5e-3
-    assert b0.damping[:, 2].sum() == pytest.approx(rho * (cp * bottom + cs * 4 * side))
-    assert b0.damping[:, 0].sum() == pytest.approx(rho * (cp * 2 * side + cs * (2 * side + bottom)))
-    # the node under the impact point on the bottom face: R = 0.5 mm, A = h^2, e = 0.5 mm to the fixed bottom
-    n = 20 + 41 * (20 + 41 * 10)
-    q = int(np.nonzero(b0.nodes == n)[0][0])
-    assert b0.stiffness[q, 2] == pytest.approx(4 / 3 * G / 0.5e-3 * h * h)
-    assert b0.stiffness[q, 0] == pytest.approx(2 / 3 * G / 0.5e-3 * h * h)
-    b1 = m.window_boundary(win, (0.0, 0.0))
-    assert b1.stiffness[q, 2] == pytest.approx((4 / 3 * G / 0.5e-3 + rho * cp * cp / 0.5e-3) * h * h)
-    assert b1.stiffness[q, 0] == pytest.approx((2 / 3 * G / 0.5e-3 + G / 0.5e-3) * h * h)
-    assert m.window_boundary(m.full_window, (0.0, 0.0)) is None
-    # face nodes touching an element that has yielded stay held
-    ep = np.zeros(mesh.n_elements)
-    ep[20 + 40 * (20 + 40 * 9)] = 1e-3  # element just above the bottom face, under the impact point
-    b2 = m.window_boundary(win, (0.0, 0.0), eps_p=ep)
-    assert len(b2.nodes) == len(b0.nodes) - 4 and n not in b2.nodes
-
-
 def test_exterior_sees_the_face_displacement(vs55):
     """The viscous-spring faces move; the layer of exterior elements on them is updated, nothing beyond."""
     t = coarse_target()

@@ -133,7 +133,7 @@ def test_nan_or_inf_in_the_measured_profile_is_refused(write_study, tmp_path, ba
 
 
 def test_the_contact_radius_estimate_is_the_kernel_s():
-    from peenflow.fe.impact import _contact_estimates
+    from peenflow.fe.window import contact_estimates as _contact_estimates
     from peenflow.fe.johnson_cook import Material
     from peenflow.fe.shots import Shots
 

@@ -21,7 +21,7 @@ def test_docs_list_exactly_the_pipeline_stages_in_order():
 
 
 @pytest.mark.parametrize("name", ["quickstart", "paper_almen_s230", "paper_al7075", "paper_al7075_v47",
-                                  "paper_al7075_coarse", "paper_al7075_standard"])
+                                  "paper_al7075_coarse", "paper_al7075_standard", "paper_fast"])
 def test_shipped_graphs_use_only_listed_stages_in_their_order(name):
     stages = peenflow.api.load_study_graph(REPO / "studies" / f"{name}.toml").stages
     order = list(STAGES)
