@@ -47,11 +47,12 @@ from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import BoxMesh, graded_axis
 from peenflow.fe.model import Target
 from peenflow.fe.shots import Shots
+from peenflow.testing import AL7075_T73, SAE1070 as SAE1070_LIBRARY
 
 R = 0.29e-3
 D = 2 * R
-SAE1070 = dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0, m=0.0)
-AL7075 = dict(E=71e9, nu=0.33, density=2780.0, A=434e6, B=303.58e6, n=0.39, C=0.0, m=0.0)
+SAE1070 = {**SAE1070_LIBRARY, "C": 0.0}  # paper Table 1 (the library's), rate-independent here
+AL7075 = AL7075_T73  # paper Table 2 (the library's): C = 0, m = 0
 CASES = {  # name: (material, speed m/s, angle to the surface deg)
     "sae-25-90": (SAE1070, 25.0, 90.0),
     "sae-55-90": (SAE1070, 55.0, 90.0),

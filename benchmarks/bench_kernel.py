@@ -31,9 +31,9 @@ from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import BoxMesh, graded_axis
 from peenflow.fe.model import Target
 from peenflow.fe.shots import Shots, hertz, johnson_plastic
+from peenflow.testing import SAE1070  # paper Table 1, from the study library
 
 R = 0.29e-3
-SAE1070 = dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0134, m=0.0)
 
 
 def loadavg() -> str:

@@ -38,10 +38,10 @@ from peenflow.fe.mesh import BoxMesh, graded_axis
 from peenflow.fe.model import Target
 from peenflow.fe.shots import Shots
 from peenflow.methods import shot_stream
+from peenflow.testing import SAE1070  # paper Table 1, from the study library
 
 R = 0.29e-3
 RHO = 7800.0
-SAE1070 = dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0134, m=0.0)
 H = 50e-6
 SIDE = 2.0e-3  # 40 x 40 elements laterally, ~3.4 D
 CENTRE = 0.6e-3  # central measuring region (about 1 D)

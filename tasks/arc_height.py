@@ -18,7 +18,7 @@ from ._common import peening_task, var
 from .params import StripParams
 
 
-@peening_task(version="1")
+@peening_task(version="2")  # 2: arc heights stored in m (was mm)
 def arc_height(runs: xr.Dataset, *, strip: StripParams, angle_deg: float | None = None,
                velocity_m_s: float | None = None) -> xr.Dataset:
     """``runs``: strip REV profiles, dims (sequence, shots, layer), ``stress_xx_Pa`` and ``z_edge_m``.

@@ -10,7 +10,7 @@ from peenflow.methods import ControlCurve
 from ._common import SWEEP_COORDS, peening_task, var
 
 
-@peening_task(version="2")
+@peening_task(version="3")  # 3: intensities stored in m (was mm)
 def control_curve(sat: xr.Dataset, *, interpolation: str) -> xr.Dataset:
     """``sat``: saturation results combined over (angle_deg, velocity_m_s).
 

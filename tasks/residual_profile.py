@@ -65,7 +65,7 @@ def _free_plate(z_edges: np.ndarray, stress: dict, part: PlateParams) -> tuple[d
     return released, bow, balance
 
 
-@peening_task(version="3")
+@peening_task(version="4")  # 4: stresses stored in Pa (was MPa)
 def residual_profile(runs: xr.Dataset, *, measured: MeasuredProfile | None = None,
                      free_part: PlateParams | None = None) -> xr.Dataset:
     """``runs``: target REV results combined over ``sequence``; ``measured``: the

@@ -20,7 +20,7 @@ from .params import SequencesParams
 MODELS = {"paper": "eq10", "exponential_2p": "exp2", "exponential_3p": "exp3"}
 
 
-@peening_task(version="1")
+@peening_task(version="2")  # 2: intensities and arc heights stored in m (was mm)
 def saturation(arc: xr.Dataset, *, fit: str, angle_deg: float | None = None,
                velocity_m_s: float | None = None, sequences: SequencesParams | None = None) -> xr.Dataset:
     """``arc``: arc_height_m with dims (sequence, shots) for the point (angle_deg, velocity_m_s).

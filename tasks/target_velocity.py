@@ -58,7 +58,7 @@ def _check_saturated(control: xr.Dataset, angles, velocities, context: str = "")
         )
 
 
-@peening_task(version="2")
+@peening_task(version="3")  # 3: intensities stored in m (was mm)
 def target_velocity(control: xr.Dataset | None = None, *, target: TargetParams) -> xr.Dataset:
     """The velocity on the control curve (``target.interpolation``: "pchip" or
     "linear" in velocity, as ``almen.interpolation``) at the target intensity."""
