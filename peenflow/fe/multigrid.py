@@ -31,7 +31,11 @@ element at the reference geometry, whatever the element's internal
 conventions. A tensor grid has few distinct element sizes (``hx``, ``hy``,
 ``hz`` per axis), so one matrix per distinct (hx, hy, hz) is stored; they
 are combined from six probed boxes (:class:`ElementMatrices`, checked
-against direct probes).
+against direct probes). The operator applies each element in modal form
+(Walsh-Hadamard transform of its corners, then the 21 + 24 nonzero entries
+of the box element's uniform-strain and hourglass blocks,
+:func:`apply_k_modal`): the same operator as the dense 24 x 24 product to
+round-off, 2.2x faster (BENCHMARKS.md section 2, "Spring-back cost").
 
 Cycle. Symmetric V-cycle: Chebyshev smoothing (polynomial in D^-1 K over
 ``[hi / CHEB_RATIO, hi]``, ``hi = 1.15 lambda_max``, ``lambda_max`` by power
@@ -264,6 +268,151 @@ def apply_k(u, out, ke, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
     mask_fixed(out, bc)
 
 
+# Modal form of a box element's matrix. On the 8 corners, per component, the
+# Walsh-Hadamard transform gives the amplitudes of 1, xi, eta, xi eta, zeta,
+# xi zeta, eta zeta, xi eta zeta (lexicographic corner bits x, y, z). For a
+# box the translation rows vanish, and the one-point element's uniform-strain
+# part (linear modes xi, eta, zeta) and its hourglass part (the four
+# bilinear/trilinear modes, whose shape vectors are the bare hourglass
+# vectors on a box) do not couple: K = F^T diag(KL, KH) F / 64 with a 9 x 9
+# and a 12 x 12 block (225 multiply-adds and 2 x 72 additions per element
+# instead of 576 multiply-adds), checked against the dense matrix at setup.
+
+#: lexicographic index (bits x, y, z) of the solver's local corner I
+_LEX = (0, 1, 3, 2, 4, 5, 7, 6)
+#: lexicographic modes of the uniform-strain part (xi, eta, zeta) and of the hourglass part
+_LIN_MODES = (1, 2, 4)
+_HG_MODES = (3, 5, 6, 7)
+#: largest coupling (relative to the largest entry) accepted outside the two blocks
+MODAL_TOLERANCE = 1e-9
+
+
+def modal_transform() -> np.ndarray:
+    """``F`` (24 x 24): element dofs (local corner I x 3 components) to modal dofs (mode x 3).
+
+    ``F[3 m + c, 3 I + c] = prod over the set bits b of m of (+1 if bit b of corner I's
+    lexicographic index is set else -1)``; ``F F^T = 8 I`` per component (the butterflies of
+    :func:`apply_k_modal`)."""
+    F = np.zeros((24, 24))
+    for m in range(8):
+        for I in range(8):
+            lex = _LEX[I]
+            sgn = 1.0
+            for b in range(3):
+                if m >> b & 1:
+                    sgn *= 1.0 if lex >> b & 1 else -1.0
+            for c in range(3):
+                F[3 * m + c, 3 * I + c] = sgn
+    return F
+
+
+def modal_blocks(ke: np.ndarray):
+    """Modal form of element matrices ``ke`` (..., 24, 24): ``(rows, cols, vals, coupling)``.
+
+    Modal dofs: 0-8 the uniform-strain part (mode xi, eta, zeta x component), 9-20 the
+    hourglass part (modes xi eta, xi zeta, eta zeta, xi eta zeta x component). ``rows, cols``
+    (int64) list the entries of the two diagonal blocks that are not zero in any of the
+    matrices (a box gives 21 + 24 of 81 + 144), ``vals`` (..., nnz) their values / 64;
+    ``coupling`` is the largest entry left out (between the blocks, on the translations, or
+    below 1e-13 of the largest) relative to the largest."""
+    F = modal_transform()
+    k = ke.reshape(-1, 24, 24)
+    kh = F @ k @ F.T
+    order = [3 * m + c for m in _LIN_MODES for c in range(3)] + [3 * m + c for m in _HG_MODES for c in range(3)]
+    big = np.abs(kh).max()
+    sub = kh[:, order][:, :, order]
+    keep = np.zeros((21, 21), dtype=bool)
+    keep[:9, :9] = True
+    keep[9:, 9:] = True
+    keep &= (np.abs(sub) > 1e-13 * big).any(axis=0)
+    rows, cols = np.nonzero(keep)
+    left = np.abs(kh).copy()
+    oi = np.array(order)
+    left[:, oi[rows], oi[cols]] = 0.0
+    vals = np.ascontiguousarray(sub[:, rows, cols].reshape(*ke.shape[:-2], len(rows)) / 64.0)
+    return rows.astype(np.int64), cols.astype(np.int64), vals, float(left.max() / big)
+
+
+@jit(inline="always")
+def _butterflies(w):
+    """Walsh-Hadamard transform of 8 corner values in lexicographic order, in place."""
+    for p in (0, 2, 4, 6):
+        a = w[p]
+        b = w[p + 1]
+        w[p] = a + b
+        w[p + 1] = b - a
+    for p in (0, 1, 4, 5):
+        a = w[p]
+        b = w[p + 2]
+        w[p] = a + b
+        w[p + 2] = b - a
+    for p in (0, 1, 2, 3):
+        a = w[p]
+        b = w[p + 4]
+        w[p] = a + b
+        w[p + 4] = b - a
+
+
+@jit(inline="always")
+def _butterflies_t(w):
+    """Transpose of :func:`_butterflies`, in place."""
+    for p in (0, 1, 2, 3):
+        s = w[p]
+        d = w[p + 4]
+        w[p] = s - d
+        w[p + 4] = s + d
+    for p in (0, 1, 4, 5):
+        s = w[p]
+        d = w[p + 2]
+        w[p] = s - d
+        w[p + 2] = s + d
+    for p in (0, 2, 4, 6):
+        s = w[p]
+        d = w[p + 1]
+        w[p] = s - d
+        w[p + 1] = s + d
+
+
+@jit
+def apply_k_modal(u, out, rows, cols, vals, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
+    """``out = K u`` (N) like :func:`apply_k`, with each element's matrix in modal form
+    (``rows, cols, vals`` from :func:`modal_blocks`)."""
+    nnxy = nnx * nny
+    out[:, :] = 0.0
+    w = np.empty(8)
+    xm = np.empty(21)
+    ym = np.empty(21)
+    nnz = len(rows)
+    offs = (0, 1, 1 + nnx, nnx, nnxy, nnxy + 1, nnxy + 1 + nnx, nnxy + nnx)
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                n0 = i + nnx * (j + nny * k)
+                for c in range(3):
+                    for I in range(8):
+                        w[_LEX[I]] = u[n0 + offs[I], c]
+                    _butterflies(w)
+                    for a in range(3):
+                        xm[3 * a + c] = w[_LIN_MODES[a]]
+                    for b in range(4):
+                        xm[9 + 3 * b + c] = w[_HG_MODES[b]]
+                for a in range(21):
+                    ym[a] = 0.0
+                v = vals[tx[i], ty[j], tz[k]]
+                for t in range(nnz):
+                    ym[rows[t]] += v[t] * xm[cols[t]]
+                for c in range(3):
+                    w[0] = 0.0
+                    for a in range(3):
+                        w[_LIN_MODES[a]] = ym[3 * a + c]
+                    for b in range(4):
+                        w[_HG_MODES[b]] = ym[9 + 3 * b + c]
+                    _butterflies_t(w)
+                    for I in range(8):
+                        out[n0 + offs[I], c] += w[_LEX[I]]
+    mask_fixed(out, bc)
+
+
 @jit
 def _diagonal(ke, tx, ty, tz, nnx, nny, nx, ny, nz, bc, d):
     nnxy = nnx * nny
@@ -438,16 +587,23 @@ class Level:
     interp: tuple | None = None  # prolongation from the next coarser level (cx0, cx1, wx, cy0, ...)
     coarse_inv: np.ndarray | None = None  # dense inverse on the coarsest level
     periodic: bool = False  # tied lateral faces: vectors live on the masters (slaves 0)
+    modal: tuple | None = None  # (rows, cols, vals) when the element matrices split into modal blocks
+
+    def _apply_box(self, u, out):
+        if self.modal is not None:
+            apply_k_modal(u, out, *self.modal, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
+        else:
+            apply_k(u, out, self.ke, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
 
     def apply(self, u, out):
         if self.periodic:
             # K_p = T^T K T on master-only vectors: unfold, apply the box's K, fold
             uc = u.copy()
             unfold_tied(uc, self.bc, self.nn[0], self.nn[1])
-            apply_k(uc, out, self.ke, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
+            self._apply_box(uc, out)
             fold_tied(out, self.bc, self.nn[0], self.nn[1])
         else:
-            apply_k(u, out, self.ke, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
+            self._apply_box(u, out)
 
 
 class Multigrid:
@@ -500,7 +656,9 @@ class Multigrid:
             mask_fixed(dinv, bc)
         else:
             _diagonal(ke, *types, nn[0], nn[1], *ne, bc, dinv)
-        return Level(axes, nn, ne, tuple(types), ke, bc, dinv, periodic=periodic)
+        rows, cols, vals, coupling = modal_blocks(ke)
+        modal = (rows, cols, vals) if coupling <= MODAL_TOLERANCE else None
+        return Level(axes, nn, ne, tuple(types), ke, bc, dinv, periodic=periodic, modal=modal)
 
     def _setup_smoothers(self):
         for lev in self.levels[:-1]:
