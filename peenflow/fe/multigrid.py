@@ -33,9 +33,10 @@ conventions. A tensor grid has few distinct element sizes (``hx``, ``hy``,
 are combined from six probed boxes (:class:`ElementMatrices`, checked
 against direct probes). The operator applies each element in modal form
 (Walsh-Hadamard transform of its corners, then the 21 + 24 nonzero entries
-of the box element's uniform-strain and hourglass blocks,
-:func:`apply_k_modal`): the same operator as the dense 24 x 24 product to
-round-off, 2.2x faster (BENCHMARKS.md section 2, "Spring-back cost").
+of the box element's uniform-strain and hourglass blocks, written out in
+:func:`apply_k_box`; :func:`apply_k_modal` with index lists for any other
+pattern): the same operator as the dense 24 x 24 product to round-off,
+4x faster (BENCHMARKS.md section 2, "Spring-back cost").
 
 Cycle. Symmetric V-cycle: Chebyshev smoothing (polynomial in D^-1 K over
 ``[hi / CHEB_RATIO, hi]``, ``hi = 1.15 lambda_max``, ``lambda_max`` by power
@@ -345,6 +346,8 @@ def modal_blocks(ke: np.ndarray):
     keep[9:, 9:] = True
     keep &= amax[np.ix_(oi, oi)] > 1e-13 * big
     rows, cols = np.nonzero(keep)
+    if set(zip(rows.tolist(), cols.tolist())) <= set(BOX_PATTERN):
+        rows, cols = (np.array(a) for a in zip(*BOX_PATTERN))  # the written-out product (apply_k_box)
     left = amax.copy()
     left[oi[rows], oi[cols]] = 0.0
     vals = np.ascontiguousarray(kh[:, oi[rows], oi[cols]].reshape(*ke.shape[:-2], len(rows)) / 64.0)
@@ -428,6 +431,112 @@ def apply_k_modal(u, out, rows, cols, vals, tx, ty, tz, nnx, nny, nx, ny, nz, bc
                     _butterflies_t(w)
                     for I in range(8):
                         out[n0 + offs[I], c] += w[_LEX[I]]
+    mask_fixed(out, bc)
+
+
+#: the nonzero entries (modal row, column) of a box element's two blocks, in :func:`modal_blocks`' order
+BOX_PATTERN = ((0, 0), (0, 4), (0, 8), (1, 1), (1, 3), (2, 2), (2, 6), (3, 1), (3, 3), (4, 0), (4, 4), (4, 8), (5, 5), (5, 7), (6, 2), (6, 6), (7, 5), (7, 7), (8, 0), (8, 4), (8, 8), (9, 9), (9, 17), (10, 10), (10, 14), (11, 11), (11, 13), (11, 15), (12, 12), (12, 16), (13, 11), (13, 13), (13, 15), (14, 10), (14, 14), (15, 11), (15, 13), (15, 15), (16, 12), (16, 16), (17, 9), (17, 17), (18, 18), (19, 19), (20, 20))
+
+
+@jit(inline="always")
+def _wht(a0, a1, a2, a3, a4, a5, a6, a7):
+    """:func:`_butterflies` on 8 scalars (lexicographic corners -> modes)."""
+    a0, a1, a2, a3, a4, a5, a6, a7 = a0 + a1, a1 - a0, a2 + a3, a3 - a2, a4 + a5, a5 - a4, a6 + a7, a7 - a6
+    a0, a2, a1, a3, a4, a6, a5, a7 = a0 + a2, a2 - a0, a1 + a3, a3 - a1, a4 + a6, a6 - a4, a5 + a7, a7 - a5
+    return a0 + a4, a1 + a5, a2 + a6, a3 + a7, a4 - a0, a5 - a1, a6 - a2, a7 - a3
+
+
+@jit(inline="always")
+def _wht_t(a0, a1, a2, a3, a4, a5, a6, a7):
+    """:func:`_butterflies_t` on 8 scalars (modes -> lexicographic corners)."""
+    a0, a4, a1, a5, a2, a6, a3, a7 = a0 - a4, a0 + a4, a1 - a5, a1 + a5, a2 - a6, a2 + a6, a3 - a7, a3 + a7
+    a0, a2, a1, a3, a4, a6, a5, a7 = a0 - a2, a0 + a2, a1 - a3, a1 + a3, a4 - a6, a4 + a6, a5 - a7, a5 + a7
+    return a0 - a1, a0 + a1, a2 - a3, a2 + a3, a4 - a5, a4 + a5, a6 - a7, a6 + a7
+
+
+@jit
+def apply_k_box(u, out, vals, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
+    """:func:`apply_k_modal` for matrices whose entries lie in :data:`BOX_PATTERN` (``vals`` in
+    that order), written out: corners and modes in registers, no index lists."""
+    nnxy = nnx * nny
+    out[:, :] = 0.0
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                n0 = i + nnx * (j + nny * k)
+                wx0, wx1, wx2, wx3, wx4, wx5, wx6, wx7 = _wht(u[n0 + 0, 0], u[n0 + 1, 0], u[n0 + nnx, 0], u[n0 + 1+nnx, 0], u[n0 + nnxy, 0], u[n0 + 1+nnxy, 0], u[n0 + nnx+nnxy, 0], u[n0 + 1+nnx+nnxy, 0])
+                wy0, wy1, wy2, wy3, wy4, wy5, wy6, wy7 = _wht(u[n0 + 0, 1], u[n0 + 1, 1], u[n0 + nnx, 1], u[n0 + 1+nnx, 1], u[n0 + nnxy, 1], u[n0 + 1+nnxy, 1], u[n0 + nnx+nnxy, 1], u[n0 + 1+nnx+nnxy, 1])
+                wz0, wz1, wz2, wz3, wz4, wz5, wz6, wz7 = _wht(u[n0 + 0, 2], u[n0 + 1, 2], u[n0 + nnx, 2], u[n0 + 1+nnx, 2], u[n0 + nnxy, 2], u[n0 + 1+nnxy, 2], u[n0 + nnx+nnxy, 2], u[n0 + 1+nnx+nnxy, 2])
+                m0 = wx1
+                m1 = wy1
+                m2 = wz1
+                m3 = wx2
+                m4 = wy2
+                m5 = wz2
+                m6 = wx4
+                m7 = wy4
+                m8 = wz4
+                m9 = wx3
+                m10 = wy3
+                m11 = wz3
+                m12 = wx5
+                m13 = wy5
+                m14 = wz5
+                m15 = wx6
+                m16 = wy6
+                m17 = wz6
+                m18 = wx7
+                m19 = wy7
+                m20 = wz7
+                v = vals[tx[i], ty[j], tz[k]]
+                y0 = v[0] * m0 + v[1] * m4 + v[2] * m8
+                y1 = v[3] * m1 + v[4] * m3
+                y2 = v[5] * m2 + v[6] * m6
+                y3 = v[7] * m1 + v[8] * m3
+                y4 = v[9] * m0 + v[10] * m4 + v[11] * m8
+                y5 = v[12] * m5 + v[13] * m7
+                y6 = v[14] * m2 + v[15] * m6
+                y7 = v[16] * m5 + v[17] * m7
+                y8 = v[18] * m0 + v[19] * m4 + v[20] * m8
+                y9 = v[21] * m9 + v[22] * m17
+                y10 = v[23] * m10 + v[24] * m14
+                y11 = v[25] * m11 + v[26] * m13 + v[27] * m15
+                y12 = v[28] * m12 + v[29] * m16
+                y13 = v[30] * m11 + v[31] * m13 + v[32] * m15
+                y14 = v[33] * m10 + v[34] * m14
+                y15 = v[35] * m11 + v[36] * m13 + v[37] * m15
+                y16 = v[38] * m12 + v[39] * m16
+                y17 = v[40] * m9 + v[41] * m17
+                y18 = v[42] * m18
+                y19 = v[43] * m19
+                y20 = v[44] * m20
+                o0, o1, o2, o3, o4, o5, o6, o7 = _wht_t(0.0, y0, y3, y9, y6, y12, y15, y18)
+                out[n0 + 0, 0] += o0
+                out[n0 + 1, 0] += o1
+                out[n0 + nnx, 0] += o2
+                out[n0 + 1+nnx, 0] += o3
+                out[n0 + nnxy, 0] += o4
+                out[n0 + 1+nnxy, 0] += o5
+                out[n0 + nnx+nnxy, 0] += o6
+                out[n0 + 1+nnx+nnxy, 0] += o7
+                o0, o1, o2, o3, o4, o5, o6, o7 = _wht_t(0.0, y1, y4, y10, y7, y13, y16, y19)
+                out[n0 + 0, 1] += o0
+                out[n0 + 1, 1] += o1
+                out[n0 + nnx, 1] += o2
+                out[n0 + 1+nnx, 1] += o3
+                out[n0 + nnxy, 1] += o4
+                out[n0 + 1+nnxy, 1] += o5
+                out[n0 + nnx+nnxy, 1] += o6
+                out[n0 + 1+nnx+nnxy, 1] += o7
+                o0, o1, o2, o3, o4, o5, o6, o7 = _wht_t(0.0, y2, y5, y11, y8, y14, y17, y20)
+                out[n0 + 0, 2] += o0
+                out[n0 + 1, 2] += o1
+                out[n0 + nnx, 2] += o2
+                out[n0 + 1+nnx, 2] += o3
+                out[n0 + nnxy, 2] += o4
+                out[n0 + 1+nnxy, 2] += o5
+                out[n0 + nnx+nnxy, 2] += o6
+                out[n0 + 1+nnx+nnxy, 2] += o7
     mask_fixed(out, bc)
 
 
@@ -608,7 +717,9 @@ class Level:
     modal: tuple | None = None  # (rows, cols, vals) when the element matrices split into modal blocks
 
     def _apply_box(self, u, out):
-        if self.modal is not None:
+        if self.modal is not None and len(self.modal[0]) == len(BOX_PATTERN):
+            apply_k_box(u, out, self.modal[2], *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
+        elif self.modal is not None:
             apply_k_modal(u, out, *self.modal, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
         else:
             apply_k(u, out, self.ke, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)

@@ -9,8 +9,8 @@ from peenflow.fe.impact import Options, run_impacts
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import graded_box
 from peenflow.fe.model import Model, Target
-from peenflow.fe.multigrid import (ElementMatrices, Multigrid, apply_k, dot, element_bound, element_matrix, mask_fixed,
-                                   modal_blocks)
+from peenflow.fe.multigrid import (BOX_PATTERN, ElementMatrices, Multigrid, apply_k, apply_k_modal, dot, element_bound,
+                                   element_matrix, mask_fixed, modal_blocks)
 from peenflow.fe.relaxation import relax
 from peenflow.fe.shots import Shots
 
@@ -124,11 +124,13 @@ def test_modal_apply_is_the_dense_element_matrix_apply(hourglass_type):
     mg = Multigrid(m.mesh, m.bc, m.mat_static)
     rng = np.random.default_rng(11)
     for lev in mg.levels:
-        assert lev.modal is not None
+        assert lev.modal is not None and len(lev.modal[0]) == len(BOX_PATTERN)  # the written-out product
         u = rng.standard_normal((lev.dinv.shape[0], 3))
-        dense, modal = np.empty_like(u), np.empty_like(u)
+        dense, box_, modal = np.empty_like(u), np.empty_like(u), np.empty_like(u)
         apply_k(u, dense, lev.ke, *lev.types, lev.nn[0], lev.nn[1], *lev.ne, lev.bc)
-        lev.apply(u, modal)
+        lev.apply(u, box_)
+        apply_k_modal(u, modal, *lev.modal, *lev.types, lev.nn[0], lev.nn[1], *lev.ne, lev.bc)  # index lists
+        assert np.abs(box_ - dense).max() < 1e-13 * np.abs(dense).max()
         assert np.abs(modal - dense).max() < 1e-13 * np.abs(dense).max()
     ke = mg.levels[0].ke.reshape(-1, 24, 24)[:1].copy()
     ke[0, 0, 5] += 1e-6 * np.abs(ke).max()  # an x-y coupling of corners 0 and 1 outside the box's form
