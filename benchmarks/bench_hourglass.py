@@ -22,16 +22,31 @@ Every run is stored (metrics, CPU s, the command) in
 ``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
 Metrics (see :func:`metrics`, :func:`surface_metrics`): dent depth; dent
 radius (along the plane of incidence: half the distance between the zero
-crossings of the surface u_z either side of the dent, interpolated between
-nodes; from the axis on a quarter model); pile-up crest radius (from the
-dent centre) and height (parabola through the highest downstream node and
-its neighbours); sigma_xx(z) under the dent (mean over the elements whose
-centroids lie within 50 um of the dent axis, its edges on the 25 um grid so
-that every mesh level averages the same zone), its peak (parabola), the depth of
-the peak and of its zero crossing below the peak (interpolated between
-centroids), and the RMS over 0-0.3 mm of the difference to the reference
-profile (interpolated onto the reference's centroid depths) / |reference
-peak|; restitution; peak hourglass energy / peak internal energy.
+crossings of the surface u_z either side of the dent, on the surface line
+interpolated between nodes by a modified-Akima spline, :func:`surface_spline`;
+from the axis on a quarter model); pile-up crest radius (from the dent
+centre) and height (the highest point of that spline next to the highest
+node downstream of the dent edge); sigma_xx(z) under the dent (mean over the
+column |x - xc| <= 50 um, |y| <= 50 um about the dent centre xc, each
+element weighted by its overlap with the column, :func:`column_profile`), its
+peak (parabola), the depth of the peak and of its zero crossing below the
+peak (interpolated between centroids), and the RMS over 0-0.3 mm of the
+difference to the reference profile (interpolated onto the reference's
+centroid depths) / |reference peak|; restitution; peak hourglass energy /
+peak internal energy. Each run also stores its surface line and its
+sigma_xx(x, z) map in the plane of incidence, so a change of a metric is
+applied to the stored runs by ``remetric`` without repeating them; ``bias``
+measures the surface metric itself on the 6.25 um lines taken at coarser
+spacings (:func:`sampling_bias`).
+
+Metric history: until 2026-12-01 the crest was the vertex of the parabola
+through the highest node and its neighbours (when the highest node was the
+first past the dent edge, the node itself), the dent edge a straight line
+between nodes, and the sigma_xx column |x - round(xc / 50 um) 50 um| <= 50 um
+(fixed in space for an oblique dent whose centre moves by 6 um between
+meshes). Some stored runs had been made with an earlier crest rule still
+(sae-25-90 / sae-55-90 at 50 um: 0.119 / 0.123 mm then, 0.100 mm by the
+rule above). All runs were remeasured or re-run with the present rules.
 """
 
 from __future__ import annotations

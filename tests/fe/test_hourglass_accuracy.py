@@ -91,3 +91,19 @@ def test_oblique_impacts_at_25um(case):
 def test_impacts_at_50um(case):
     got, _ = _check(case, 50, GOAL_50)
     assert got["energy_error"] < 0.01
+
+
+def test_surface_metric_on_a_coarser_sampling_of_the_same_line():
+    """The metric itself, not the element: each stored 6.25 um surface line taken at every 4th node
+    (25 um spacing, each of the 4 offsets) must read the dent radius and the crest radius close to
+    the full line's. The bounds are the measured sampling errors rounded up (BENCHMARKS.md 4c): the
+    dent edge within 3.5 um on average (the straight-line rule read it 3.6-6.2 um too far out), the
+    crest within 9 um (4-8 % of its radius, so a 25 um surface cannot show the 5 % goal on every
+    case whatever the element)."""
+    rows = bh.sampling_bias(DATA, step=4)
+    assert {r["run"].split("/")[0] for r in rows} == set(bh.CASES)
+    for r in rows:
+        assert abs(r["dent_radius_bias_um"]) <= 3.5, r
+        assert r["dent_radius_worst_um"] <= 7.5, r
+        assert abs(r["crest_radius_bias_um"]) <= 9.0, r
+        assert r["crest_radius_worst_um"] <= 15.0, r
