@@ -454,6 +454,26 @@ def _wht_t(a0, a1, a2, a3, a4, a5, a6, a7):
     return a0 - a1, a0 + a1, a2 - a3, a2 + a3, a4 - a5, a4 + a5, a6 - a7, a6 + a7
 
 
+@jit(inline="always")
+def _corners(u, n0, nnx, nnxy, c):
+    """Component ``c`` of ``u`` on the 8 corners of the element at first node ``n0``, lexicographic."""
+    return (u[n0, c], u[n0 + 1, c], u[n0 + nnx, c], u[n0 + 1 + nnx, c], u[n0 + nnxy, c], u[n0 + 1 + nnxy, c],
+            u[n0 + nnx + nnxy, c], u[n0 + 1 + nnx + nnxy, c])
+
+
+@jit(inline="always")
+def _add_corners(out, n0, nnx, nnxy, c, o0, o1, o2, o3, o4, o5, o6, o7):
+    """Add 8 corner values (lexicographic) to component ``c`` of ``out``."""
+    out[n0, c] += o0
+    out[n0 + 1, c] += o1
+    out[n0 + nnx, c] += o2
+    out[n0 + 1 + nnx, c] += o3
+    out[n0 + nnxy, c] += o4
+    out[n0 + 1 + nnxy, c] += o5
+    out[n0 + nnx + nnxy, c] += o6
+    out[n0 + 1 + nnx + nnxy, c] += o7
+
+
 @jit
 def apply_k_box(u, out, vals, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
     """:func:`apply_k_modal` for matrices whose entries lie in :data:`BOX_PATTERN` (``vals`` in
@@ -464,9 +484,12 @@ def apply_k_box(u, out, vals, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
         for j in range(ny):
             for i in range(nx):
                 n0 = i + nnx * (j + nny * k)
-                wx0, wx1, wx2, wx3, wx4, wx5, wx6, wx7 = _wht(u[n0 + 0, 0], u[n0 + 1, 0], u[n0 + nnx, 0], u[n0 + 1+nnx, 0], u[n0 + nnxy, 0], u[n0 + 1+nnxy, 0], u[n0 + nnx+nnxy, 0], u[n0 + 1+nnx+nnxy, 0])
-                wy0, wy1, wy2, wy3, wy4, wy5, wy6, wy7 = _wht(u[n0 + 0, 1], u[n0 + 1, 1], u[n0 + nnx, 1], u[n0 + 1+nnx, 1], u[n0 + nnxy, 1], u[n0 + 1+nnxy, 1], u[n0 + nnx+nnxy, 1], u[n0 + 1+nnx+nnxy, 1])
-                wz0, wz1, wz2, wz3, wz4, wz5, wz6, wz7 = _wht(u[n0 + 0, 2], u[n0 + 1, 2], u[n0 + nnx, 2], u[n0 + 1+nnx, 2], u[n0 + nnxy, 2], u[n0 + 1+nnxy, 2], u[n0 + nnx+nnxy, 2], u[n0 + 1+nnx+nnxy, 2])
+                a0, a1, a2, a3, a4, a5, a6, a7 = _corners(u, n0, nnx, nnxy, 0)
+                wx0, wx1, wx2, wx3, wx4, wx5, wx6, wx7 = _wht(a0, a1, a2, a3, a4, a5, a6, a7)
+                a0, a1, a2, a3, a4, a5, a6, a7 = _corners(u, n0, nnx, nnxy, 1)
+                wy0, wy1, wy2, wy3, wy4, wy5, wy6, wy7 = _wht(a0, a1, a2, a3, a4, a5, a6, a7)
+                a0, a1, a2, a3, a4, a5, a6, a7 = _corners(u, n0, nnx, nnxy, 2)
+                wz0, wz1, wz2, wz3, wz4, wz5, wz6, wz7 = _wht(a0, a1, a2, a3, a4, a5, a6, a7)
                 m0 = wx1
                 m1 = wy1
                 m2 = wz1
@@ -511,32 +534,11 @@ def apply_k_box(u, out, vals, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
                 y19 = v[43] * m19
                 y20 = v[44] * m20
                 o0, o1, o2, o3, o4, o5, o6, o7 = _wht_t(0.0, y0, y3, y9, y6, y12, y15, y18)
-                out[n0 + 0, 0] += o0
-                out[n0 + 1, 0] += o1
-                out[n0 + nnx, 0] += o2
-                out[n0 + 1+nnx, 0] += o3
-                out[n0 + nnxy, 0] += o4
-                out[n0 + 1+nnxy, 0] += o5
-                out[n0 + nnx+nnxy, 0] += o6
-                out[n0 + 1+nnx+nnxy, 0] += o7
+                _add_corners(out, n0, nnx, nnxy, 0, o0, o1, o2, o3, o4, o5, o6, o7)
                 o0, o1, o2, o3, o4, o5, o6, o7 = _wht_t(0.0, y1, y4, y10, y7, y13, y16, y19)
-                out[n0 + 0, 1] += o0
-                out[n0 + 1, 1] += o1
-                out[n0 + nnx, 1] += o2
-                out[n0 + 1+nnx, 1] += o3
-                out[n0 + nnxy, 1] += o4
-                out[n0 + 1+nnxy, 1] += o5
-                out[n0 + nnx+nnxy, 1] += o6
-                out[n0 + 1+nnx+nnxy, 1] += o7
+                _add_corners(out, n0, nnx, nnxy, 1, o0, o1, o2, o3, o4, o5, o6, o7)
                 o0, o1, o2, o3, o4, o5, o6, o7 = _wht_t(0.0, y2, y5, y11, y8, y14, y17, y20)
-                out[n0 + 0, 2] += o0
-                out[n0 + 1, 2] += o1
-                out[n0 + nnx, 2] += o2
-                out[n0 + 1+nnx, 2] += o3
-                out[n0 + nnxy, 2] += o4
-                out[n0 + 1+nnxy, 2] += o5
-                out[n0 + nnx+nnxy, 2] += o6
-                out[n0 + 1+nnx+nnxy, 2] += o7
+                _add_corners(out, n0, nnx, nnxy, 2, o0, o1, o2, o3, o4, o5, o6, o7)
     mask_fixed(out, bc)
 
 
