@@ -45,8 +45,9 @@ first past the dent edge, the node itself), the dent edge a straight line
 between nodes, and the sigma_xx column |x - round(xc / 50 um) 50 um| <= 50 um
 (fixed in space for an oblique dent whose centre moves by 6 um between
 meshes). Some stored runs had been made with an earlier crest rule still
-(sae-25-90 / sae-55-90 at 50 um: 0.119 / 0.123 mm then, 0.100 mm by the
-rule above). All runs were remeasured or re-run with the present rules.
+(sae-25-90 / sae-55-90 at 50 um: 0.119 / 0.123 mm stored, 0.100 mm by that
+parabola rule). All runs were remeasured (``remetric``) or re-run with the
+present rules.
 """
 
 from __future__ import annotations
