@@ -12,7 +12,7 @@ Public API::
 
 Modules (one concept each): ``mesh`` (structured hex box, graded axes),
 ``boundary`` (fixity masks), ``johnson_cook`` (eq. 1 and its return mapping),
-``element`` (one-point hex + hourglass), ``contact`` (rigid sphere, kinematic
+``element`` (one-point hex + hourglass; ``element_reference`` its per-element reference), ``contact`` (rigid sphere, kinematic
 + Coulomb), ``shots`` (shot data, free flight, Hertz/Johnson estimates),
 ``solver`` (the explicit loop over an active window), ``relaxation``
 (global dynamic relaxation), ``state`` (checkpointable state), ``model``
