@@ -15,21 +15,39 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_hourglass.py table                   # the table of BENCHMARKS.md 4c
     PYTHONPATH=. python benchmarks/bench_hourglass.py cost                    # CPU per element update, both forms
     PYTHONPATH=. python benchmarks/bench_hourglass.py legacy                  # both forms on the setup of section 4
+    PYTHONPATH=. python benchmarks/bench_hourglass.py remetric                # surface figures again from the stored lines
+    PYTHONPATH=. python benchmarks/bench_hourglass.py bias                    # the surface metric on coarser samplings
 
 Every run is stored (metrics, CPU s, the command) in
 ``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
 Metrics (see :func:`metrics`, :func:`surface_metrics`): dent depth; dent
 radius (along the plane of incidence: half the distance between the zero
-crossings of the surface u_z either side of the dent, interpolated between
-nodes; from the axis on a quarter model); pile-up crest radius (from the
-dent centre) and height (parabola through the highest downstream node and
-its neighbours); sigma_xx(z) under the dent (mean over the elements whose
-centroids lie within 50 um of the dent axis, its edges on the 25 um grid so
-that every mesh level averages the same zone), its peak (parabola), the depth of
-the peak and of its zero crossing below the peak (interpolated between
-centroids), and the RMS over 0-0.3 mm of the difference to the reference
-profile (interpolated onto the reference's centroid depths) / |reference
-peak|; restitution; peak hourglass energy / peak internal energy.
+crossings of the surface u_z either side of the dent, on the surface line
+interpolated between nodes by a modified-Akima spline, :func:`surface_spline`;
+from the axis on a quarter model); pile-up crest radius (from the dent
+centre) and height (the highest point of that spline next to the highest
+node downstream of the dent edge); sigma_xx(z) under the dent (mean over the
+column |x - xc| <= 50 um, |y| <= 50 um about the dent centre xc, each
+element weighted by its overlap with the column, :func:`column_profile`), its
+peak (parabola), the depth of the peak and of its zero crossing below the
+peak (interpolated between centroids), and the RMS over 0-0.3 mm of the
+difference to the reference profile (interpolated onto the reference's
+centroid depths) / |reference peak|; restitution; peak hourglass energy /
+peak internal energy. Each run also stores its surface line and its
+sigma_xx(x, z) map in the plane of incidence, so a change of a metric is
+applied to the stored runs by ``remetric`` without repeating them; ``bias``
+measures the surface metric itself on the 6.25 um lines taken at coarser
+spacings (:func:`sampling_bias`).
+
+Metric history: until 2026-12-01 the crest was the vertex of the parabola
+through the highest node and its neighbours (when the highest node was the
+first past the dent edge, the node itself), the dent edge a straight line
+between nodes, and the sigma_xx column |x - round(xc / 50 um) 50 um| <= 50 um
+(fixed in space for an oblique dent whose centre moves by 6 um between
+meshes). Some stored runs had been made with an earlier crest rule still
+(sae-25-90 / sae-55-90 at 50 um: 0.119 / 0.123 mm stored, 0.100 mm by that
+parabola rule). All runs were remeasured (``remetric``) or re-run with the
+present rules.
 """
 
 from __future__ import annotations
@@ -92,33 +110,140 @@ def _parabola_extremum(x, y, i):
     return xv, np.polyval(c, xv)
 
 
-def _crossing(x, u):
-    """First x where u (>0 at x[0]) reaches 0, linear between nodes; x[-1] if never."""
+def surface_spline(xs, us):
+    """The surface line interpolated between its nodes: modified Akima (makima) piecewise cubic.
+
+    The pile-up lip is nearly a kink (steep inner flank that followed the
+    shot, gentle outer flank, a rounded cap 10-20 um wide at 6.25 um), which a
+    parabola through three nodes reads biased towards the gentle side by up to
+    h / 2, and a straight line between nodes reads the zero crossing next to
+    the lip too far out. The makima spline is local and does not overshoot at
+    kinks or flat parts; on the 6.25 um surfaces subsampled to 25 um spacing it
+    reads the crest within +4 ... +5 um and the dent edge within 2.5 % of the
+    full-resolution values (parabola: +6 ... +11 um; straight line: +6 %),
+    :func:`sampling_bias`, BENCHMARKS.md 4c."""
+    from scipy.interpolate import Akima1DInterpolator
+
+    return Akima1DInterpolator(xs, us, method="makima")
+
+
+def _crossing(s, x, u):
+    """First x where u (>0 at x[0]) reaches 0 on the spline ``s`` (x ascending or descending); x[-1] if never."""
+    from scipy.optimize import brentq
+
     j = int(np.argmax(u <= 0.0))
     if u[j] > 0.0:
         return x[-1]
-    return x[j - 1] + u[j - 1] / (u[j - 1] - u[j]) * (x[j] - x[j - 1]) if j > 0 else x[0]
+    if j == 0 or u[j] == 0.0:
+        return x[j]
+    return brentq(lambda t: float(s(t)), x[j - 1], x[j], xtol=1e-12)
+
+
+def _spline_max(s, lo, hi, x0, y0):
+    """Largest value of the spline ``s`` on [lo, hi] and where (start: the node x0, y0)."""
+    best = (x0, y0)
+    for r in s.derivative().roots(extrapolate=False):
+        if lo <= r <= hi and s(r) > best[1]:
+            best = (float(r), float(s(r)))
+    return best
 
 
 def surface_metrics(xs, us) -> dict:
     """Dent and pile-up figures from the surface line y = 0 (x m ascending, u_z m, + into the target).
 
-    Dent centre ``xc``: midway between the zero crossings of u_z on either side of the deepest
-    node (the axis ``x = 0`` where the model is a quarter, x >= 0); dent radius: half their
-    distance (x_down - xc on a quarter model); crest: the highest node downstream and its
-    neighbours' parabola, its radius from xc."""
+    The line is interpolated by :func:`surface_spline`. Dent centre ``xc``: midway between the
+    zero crossings of u_z on either side of the deepest node (the axis ``x = 0`` where the model
+    is a quarter, x >= 0); dent radius: half their distance (x_down - xc on a quarter model);
+    crest: the highest point of the interpolated surface within one element of the highest node
+    downstream of the dent edge, its radius from xc and its height."""
+    s = surface_spline(xs, us)
+    up = surface_spline(xs, -us)  # the pile-up, positive
     k = int(np.argmax(us))
-    x_down = _crossing(xs[k:], us[k:])
+    x_down = _crossing(s, xs[k:], us[k:])
     if xs[0] < -1e-12:  # half model: the upstream side is there
-        x_up = _crossing(xs[: k + 1][::-1], us[: k + 1][::-1])
+        x_up = _crossing(s, xs[: k + 1][::-1], us[: k + 1][::-1])
         xc = 0.5 * (x_up + x_down)
     else:
         xc = 0.0
-    down = xs >= x_down - 1e-12
-    ic = int(np.argmin(us[down]))
-    x_crest, u_crest = _parabola_extremum(xs[down], us[down], ic)
+    i = int(np.argmin(np.where(xs >= x_down - 1e-12, us, np.inf)))  # highest node beyond the dent edge
+    lo = max(xs[max(i - 1, 0)], x_down)
+    hi = xs[min(i + 1, len(xs) - 1)]
+    x_crest, h_crest = _spline_max(up, lo, hi, xs[i], -us[i])
     return dict(dent_um=us.max() * 1e6, dent_radius_mm=(x_down - xc) * 1e3, crest_radius_mm=(x_crest - xc) * 1e3,
-                crest_height_um=-u_crest * 1e6, dent_centre_mm=xc * 1e3)
+                crest_height_um=h_crest * 1e6, dent_centre_mm=xc * 1e3)
+
+
+def sampling_bias(data: dict, step: int = 4) -> list[dict]:
+    """How far :func:`surface_metrics` reads a coarser sampling of the same surface: each stored
+    6.25 um surface taken at every ``step``-th node (each offset), its dent radius and crest radius
+    against those of the full line (um; the mean over offsets and the largest deviation). Tests
+    the metric, not the element: a 25 um mesh can be no closer than this."""
+    rows = []
+    for key, v in sorted(data.items()):
+        if not key.endswith("/6.25") or "surface_x_mm" not in v:
+            continue
+        x, u = np.array(v["surface_x_mm"]) * 1e-3, np.array(v["surface_uz_um"]) * 1e-6
+        full = surface_metrics(x, u)
+        dr, cr = [], []
+        for off in range(step):
+            m = surface_metrics(x[off::step], u[off::step])
+            dr.append(m["dent_radius_mm"] - full["dent_radius_mm"])
+            cr.append(m["crest_radius_mm"] - full["crest_radius_mm"])
+        rows.append(dict(run=key, dent_radius_mm=full["dent_radius_mm"], crest_radius_mm=full["crest_radius_mm"],
+                         dent_radius_bias_um=1e3 * float(np.mean(dr)), dent_radius_worst_um=1e3 * float(np.max(np.abs(dr))),
+                         crest_radius_bias_um=1e3 * float(np.mean(cr)), crest_radius_worst_um=1e3 * float(np.max(np.abs(cr)))))
+    return rows
+
+
+MAP_HALF = 0.2e-3  # half length (x, about the dent centre) of the stored sigma_xx(x, z) map, m
+MAP_DEPTH = 0.5e-3
+
+
+def sxx_map(res, mesh: BoxMesh, xc: float) -> dict:
+    """sigma_xx(x, z) in the plane of incidence: per element column (its x edges) and centroid depth,
+    the mean over the element rows within AXIS_ZONE of y = 0, for |x - xc| <= MAP_HALF."""
+    c = res.centroids
+    sel = (np.abs(c[:, 1]) <= AXIS_ZONE) & (c[:, 2] <= MAP_DEPTH) & (np.abs(c[:, 0] - xc) <= MAP_HALF)
+    xs = np.unique(np.round(c[sel, 0], 12))
+    zs = np.unique(np.round(c[sel, 2], 12))
+    ix = np.searchsorted(xs, np.round(c[sel, 0], 12))
+    iz = np.searchsorted(zs, np.round(c[sel, 2], 12))
+    total = np.zeros((len(zs), len(xs)))
+    count = np.zeros((len(zs), len(xs)))
+    np.add.at(total, (iz, ix), res.stress[sel, 0])
+    np.add.at(count, (iz, ix), 1.0)
+    edges = np.asarray(mesh.x)
+    i = np.searchsorted(edges, xs) - 1  # column i spans edges[i], edges[i + 1]
+    return dict(map_x0_mm=(edges[i] * 1e3).tolist(), map_x1_mm=(edges[i + 1] * 1e3).tolist(),
+                map_z_mm=(zs * 1e3).tolist(), map_mpa=(total / count / 1e6).tolist())
+
+
+def column_profile(m: dict, xc_mm: float) -> tuple[np.ndarray, np.ndarray]:
+    """sigma_xx(z) (MPa) averaged over the column |x - xc| <= AXIS_ZONE of the map ``m``: each element
+    column weighted by its overlap with the column (the exact mean of the element-wise constant
+    field; on a quarter model, x >= 0, the column's half that is there). Centred on the dent
+    centre, not on a grid line: an oblique dent's centre moves with the mesh (8 um at 25 um,
+    14 um at 6.25 um on sae-55-45), and a column fixed in space reads a different part of the
+    stress field under each mesh's dent."""
+    x0, x1 = np.array(m["map_x0_mm"]), np.array(m["map_x1_mm"])
+    a = AXIS_ZONE * 1e3
+    w = np.clip(np.minimum(x1, xc_mm + a) - np.maximum(x0, xc_mm - a), 0.0, None)
+    return np.array(m["map_z_mm"]), np.array(m["map_mpa"]) @ w / w.sum()
+
+
+def profile_metrics(zs_mm: np.ndarray, prof_mpa: np.ndarray) -> dict:
+    """Peak of sigma_xx(z) (parabola through the most compressive centroid and its neighbours), its
+    depth, and the depth where it is back to 0 below the peak (linear between centroids)."""
+    ip = int(np.argmin(prof_mpa))
+    z_peak, s_peak = _parabola_extremum(zs_mm, prof_mpa, ip)
+    after = np.nonzero(prof_mpa[ip:] >= 0.0)[0]
+    if len(after):
+        k = ip + after[0]
+        z_zero = zs_mm[k - 1] + (0 - prof_mpa[k - 1]) / (prof_mpa[k] - prof_mpa[k - 1]) * (zs_mm[k] - zs_mm[k - 1])
+    else:
+        z_zero = float("nan")
+    return dict(sxx_peak_mpa=float(s_peak), sxx_peak_depth_mm=float(z_peak), zero_depth_mm=float(z_zero),
+                profile_z_mm=np.asarray(zs_mm).tolist(), profile_mpa=np.asarray(prof_mpa).tolist())
 
 
 def metrics(res, mesh: BoxMesh) -> dict:
@@ -130,26 +255,14 @@ def metrics(res, mesh: BoxMesh) -> dict:
     xs, us = X[row, 0][o], uz[row][o]
     out = surface_metrics(xs, us)
     out["dent_um"] = uz.max() * 1e6  # deepest point anywhere
-    c = res.centroids
-    xr = np.round(out["dent_centre_mm"] * 1e-3 / 50e-6) * 50e-6  # column edges on the 25 um grid
-    col = (np.abs(c[:, 0] - xr) <= AXIS_ZONE) & (np.abs(c[:, 1]) <= AXIS_ZONE) & (c[:, 2] <= 0.5e-3)
-    zs = np.unique(np.round(c[col, 2], 12))
-    prof = np.array([res.stress[col & (np.abs(c[:, 2] - z) < 1e-12), 0].mean() for z in zs])
-    ip = int(np.argmin(prof))
-    z_peak, s_peak = _parabola_extremum(zs, prof, ip)
-    after = np.nonzero(prof[ip:] >= 0.0)[0]
-    if len(after):
-        m = ip + after[0]
-        z_zero = zs[m - 1] + (0 - prof[m - 1]) / (prof[m] - prof[m - 1]) * (zs[m] - zs[m - 1])
-    else:
-        z_zero = float("nan")
+    out.update(sxx_map(res, mesh, out["dent_centre_mm"] * 1e-3))
+    zs, prof = column_profile(out, out["dent_centre_mm"])
+    out.update(profile_metrics(zs, prof))
     hist = res.histories[0]
     s = res.shots
-    out.update(sxx_peak_mpa=s_peak / 1e6, sxx_peak_depth_mm=z_peak * 1e3,
-               zero_depth_mm=z_zero * 1e3, restitution=float(s["restitution"][0]),
+    out.update(restitution=float(s["restitution"][0]),
                hg_over_int=float(np.max(hist["w_hourglass"]) / np.max(hist["w_int"])),
-               energy_error=float(s["energy_error"][0]), profile_z_mm=(zs * 1e3).tolist(),
-               profile_mpa=(prof / 1e6).tolist(), surface_x_mm=(xs * 1e3).tolist(),
+               energy_error=float(s["energy_error"][0]), surface_x_mm=(xs * 1e3).tolist(),
                surface_uz_um=(us * 1e6).tolist())
     return out
 
@@ -344,8 +457,39 @@ def summary() -> None:
                 print(f"| {element} | {h:g} | {n} | " + " | ".join(cells) + f" | {100 * rms_w:.1f} % | {hg_w:.3f} |")
 
 
+def remetric() -> None:
+    """Recompute the surface figures of every stored run from its stored surface line (after a change
+    of :func:`surface_metrics`; the runs themselves are not repeated). Runs stored without their
+    surface line are listed: they must be run again."""
+    with open(STORE.with_suffix(".lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        data = _load()
+        for key, v in sorted(data.items()):
+            if "surface_x_mm" not in v:
+                print(f"{key}: no surface line stored, run it again")
+                continue
+            m = surface_metrics(np.array(v["surface_x_mm"]) * 1e-3, np.array(v["surface_uz_um"]) * 1e-6)
+            m.pop("dent_um")  # the deepest point anywhere, not only on the line (metrics())
+            v.update(m)
+            if "map_mpa" in v:
+                v.update(profile_metrics(*column_profile(v, v["dent_centre_mm"])))
+            elif abs(v["dent_centre_mm"]) > 1e-9:
+                print(f"{key}: no sigma_xx map stored and the dent is off the axis: run it again")
+        STORE.write_text(json.dumps(data, indent=1, sort_keys=True))
+
+
 if __name__ == "__main__":
-    if sys.argv[1] == "legacy":
+    if sys.argv[1] == "remetric":
+        remetric()
+    elif sys.argv[1] == "bias":
+        print("| 6.25 um run | dent radius um | its bias at 25 um spacing (mean / worst) um | crest radius um | "
+              "its bias (mean / worst) um |")
+        print("|---|---|---|---|---|")
+        for r in sampling_bias(_load()):
+            print(f"| {r['run']} | {1e3 * r['dent_radius_mm']:.1f} | {r['dent_radius_bias_um']:+.1f} / "
+                  f"{r['dent_radius_worst_um']:.1f} | {1e3 * r['crest_radius_mm']:.1f} | "
+                  f"{r['crest_radius_bias_um']:+.1f} / {r['crest_radius_worst_um']:.1f} |")
+    elif sys.argv[1] == "legacy":
         legacy()
     elif sys.argv[1] == "cost":
         cost()

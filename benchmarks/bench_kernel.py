@@ -25,7 +25,8 @@ import time
 import numba
 import numpy as np
 
-from peenflow.fe.element import element_pass, element_pass_parallel, element_rows, element_rows_parallel
+from peenflow.fe.element import element_rows, element_rows_parallel
+from peenflow.fe.element_reference import element_pass, element_pass_parallel
 from peenflow.fe.impact import Options, run_impacts
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import BoxMesh, graded_axis

@@ -19,7 +19,8 @@ Public API::
 Modules (one concept each): ``mesh`` (structured hex box, graded axes),
 ``boundary`` (fixity masks), ``periodic`` (periodic faces: mesh check, tied
 masters, the roll that keeps impacts off the seam), ``johnson_cook`` (eq. 1
-and its return mapping), ``element`` (one-point hex + hourglass),
+and its return mapping), ``element`` (one-point hex + hourglass; ``element_reference``
+its per-element reference),
 ``contact`` (rigid sphere, kinematic + Coulomb), ``shots`` (shot data, free
 flight, Hertz/Johnson estimates), ``window`` (the active window: size,
 validity, viscous-spring faces, sponge), ``solver`` (the explicit loop over

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from peenflow.fe.element import element_pass
+from peenflow.fe.element_reference import element_pass
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import BoxMesh, graded_axis
 

@@ -10,7 +10,8 @@ highest frequency, and the vectorised rows agree with the reference element.
 import numpy as np
 import pytest
 
-from peenflow.fe.element import element_pass, element_rows
+from peenflow.fe.element import element_rows
+from peenflow.fe.element_reference import element_pass
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import BoxMesh, graded_axis
 from peenflow.fe.multigrid import _LOCAL, element_matrix

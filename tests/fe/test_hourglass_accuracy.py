@@ -31,30 +31,30 @@ GOAL_25 = dict(dent_um=0.03, dent_radius_mm=0.03, sxx_peak_mpa=0.03, zero_depth_
 GOAL_50 = dict(dent_um=0.08, dent_radius_mm=0.08, sxx_peak_mpa=0.08, zero_depth_mm=0.08, restitution=0.02)
 # where the physical element misses the goal: (case, h um, quantity) -> the measured |error| + 0.5 %
 # rounded up to whole per cent (restitution: absolute; hg_over_int: the ratio itself); BENCHMARKS.md 4c.
-# Crest position and height, the dent's edge on the 25 m/s dent (2.5 elements of 25 um) and the
-# sigma_xx peak under the 45 deg dent converge slowly (order ~1 or less).
+# Measured 2026-12-01 with the surface line interpolated by a makima spline and the sigma_xx column
+# centred on the dent (bench_hourglass.py docstring); every entry is at or below the one it replaces.
+# Crest position and height and the 25 m/s dent's edge are near the sampling limit of a 25 um
+# surface (test_surface_metric_on_a_coarser_sampling_of_the_same_line); the sigma_xx peak under the
+# 45 deg dent converges slowly (+13 / +5 % at 25 / 12.5 um, order ~0.6).
 MISSED = {
-    ('al-47-65', 25, 'crest_radius_mm'): 0.17,
-    ('sae-25-90', 25, 'crest_height_um'): 0.6,
-    ('sae-25-90', 25, 'crest_radius_mm'): 0.17,
-    ('sae-25-90', 25, 'dent_radius_mm'): 0.13,
+    ('al-47-65', 25, 'crest_radius_mm'): 0.11,
+    ('sae-25-90', 25, 'dent_radius_mm'): 0.07,
     ('sae-25-90', 25, 'dent_um'): 0.05,
     ('sae-25-90', 25, 'hg_over_int'): 0.08,
-    ('sae-25-90', 50, 'dent_radius_mm'): 0.46,
+    ('sae-25-90', 50, 'dent_radius_mm'): 0.33,
     ('sae-25-90', 50, 'restitution'): 0.07,
     ('sae-25-90', 50, 'sxx_peak_mpa'): 0.25,
     ('sae-25-90', 50, 'zero_depth_mm'): 0.11,
-    ('sae-55-45', 25, 'crest_height_um'): 0.28,
+    ('sae-55-45', 25, 'crest_height_um'): 0.26,
     ('sae-55-45', 25, 'crest_radius_mm'): 0.15,
-    ('sae-55-45', 25, 'dent_radius_mm'): 0.08,
+    ('sae-55-45', 25, 'dent_radius_mm'): 0.06,
     ('sae-55-45', 25, 'dent_um'): 0.05,
     ('sae-55-45', 25, 'hg_over_int'): 0.07,
-    ('sae-55-45', 25, 'sxx_peak_mpa'): 0.26,
-    ('sae-55-45', 50, 'dent_radius_mm'): 0.23,
-    ('sae-55-45', 50, 'sxx_peak_mpa'): 0.38,
-    ('sae-55-90', 25, 'crest_height_um'): 0.2,
-    ('sae-55-90', 25, 'crest_radius_mm'): 0.15,
-    ('sae-55-90', 25, 'dent_radius_mm'): 0.06,
+    ('sae-55-45', 25, 'sxx_peak_mpa'): 0.14,
+    ('sae-55-45', 50, 'dent_radius_mm'): 0.15,
+    ('sae-55-45', 50, 'sxx_peak_mpa'): 0.21,
+    ('sae-55-90', 25, 'crest_height_um'): 0.18,
+    ('sae-55-90', 25, 'crest_radius_mm'): 0.11,
     ('sae-55-90', 50, 'sxx_peak_mpa'): 0.1,
 }
 
@@ -91,3 +91,19 @@ def test_oblique_impacts_at_25um(case):
 def test_impacts_at_50um(case):
     got, _ = _check(case, 50, GOAL_50)
     assert got["energy_error"] < 0.01
+
+
+def test_surface_metric_on_a_coarser_sampling_of_the_same_line():
+    """The metric itself, not the element: each stored 6.25 um surface line taken at every 4th node
+    (25 um spacing, each of the 4 offsets) must read the dent radius and the crest radius close to
+    the full line's. The bounds are the measured sampling errors rounded up (BENCHMARKS.md 4c): the
+    dent edge within 3.5 um on average (the straight-line rule read it 3.6-6.2 um too far out), the
+    crest within 9 um (4-8 % of its radius, so a 25 um surface cannot show the 5 % goal on every
+    case whatever the element)."""
+    rows = bh.sampling_bias(DATA, step=4)
+    assert {r["run"].split("/")[0] for r in rows} == set(bh.CASES)
+    for r in rows:
+        assert abs(r["dent_radius_bias_um"]) <= 3.5, r
+        assert r["dent_radius_worst_um"] <= 7.5, r
+        assert abs(r["crest_radius_bias_um"]) <= 9.0, r
+        assert r["crest_radius_worst_um"] <= 15.0, r

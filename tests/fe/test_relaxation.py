@@ -9,7 +9,8 @@ from peenflow.fe.impact import Options, run_impacts
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import graded_box
 from peenflow.fe.model import Model, Target
-from peenflow.fe.multigrid import ElementMatrices, Multigrid, dot, element_bound, element_matrix, mask_fixed
+from peenflow.fe.multigrid import (BOX_PATTERN, ElementMatrices, Multigrid, apply_k, apply_k_modal, dot, element_bound,
+                                   element_matrix, mask_fixed, modal_blocks)
 from peenflow.fe.relaxation import relax
 from peenflow.fe.shots import Shots
 from peenflow.testing import SAE1070
@@ -112,6 +113,29 @@ def test_multigrid_operator_is_the_element_tangent_and_preconditioner_spd():
     ma, mb = mg.vcycle(a), mg.vcycle(b)
     assert dot(a, ma) > 0 and dot(b, mb) > 0
     assert dot(a, mb) == pytest.approx(dot(b, ma), rel=1e-9)
+
+
+@pytest.mark.parametrize("hourglass_type", ["physical", "stiffness"])
+def test_modal_apply_is_the_dense_element_matrix_apply(hourglass_type):
+    """Every level applies its elements in modal form (the two blocks of a box element), the
+    same operator as the dense 24 x 24 matrices to round-off; an element matrix that couples
+    the blocks is refused (the level keeps the dense apply)."""
+    m = Model(box(), Material(**SAE1070), hourglass_type=hourglass_type)
+    mg = Multigrid(m.mesh, m.bc, m.mat_static)
+    rng = np.random.default_rng(11)
+    for lev in mg.levels:
+        assert lev.modal is not None and len(lev.modal[0]) == len(BOX_PATTERN)  # the written-out product
+        u = rng.standard_normal((lev.dinv.shape[0], 3))
+        dense, box_, modal = np.empty_like(u), np.empty_like(u), np.empty_like(u)
+        apply_k(u, dense, lev.ke, *lev.types, lev.nn[0], lev.nn[1], *lev.ne, lev.bc)
+        lev.apply(u, box_)
+        apply_k_modal(u, modal, *lev.modal, *lev.types, lev.nn[0], lev.nn[1], *lev.ne, lev.bc)  # index lists
+        assert np.abs(box_ - dense).max() < 1e-13 * np.abs(dense).max()
+        assert np.abs(modal - dense).max() < 1e-13 * np.abs(dense).max()
+    ke = mg.levels[0].ke.reshape(-1, 24, 24)[:1].copy()
+    ke[0, 0, 5] += 1e-6 * np.abs(ke).max()  # an x-y coupling of corners 0 and 1 outside the box's form
+    ke[0, 5, 0] = ke[0, 0, 5]
+    assert modal_blocks(ke)[3] > 1e-8
 
 
 def test_free_bottom_falls_back_to_dynamic_relaxation():

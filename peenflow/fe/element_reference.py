@@ -1,0 +1,412 @@
+"""Reference implementation of the element of :mod:`peenflow.fe.element`: one element at a time.
+
+The production kernel is the blocked, vectorised :func:`peenflow.fe.element.element_rows`
+(one element per SIMD lane). This module keeps the same element written
+plainly, one element per call (:func:`element_update`), and a pass over an
+index box in 8 colours (parity of ``i, j, k``; :func:`element_pass` and its
+``parallel=True`` twin). It is the readable statement of the formulation
+(module docstring of :mod:`peenflow.fe.element`) that the tests and
+benchmarks compare the vectorised rows against (to 1e-12, with plastic flow
+and stored hourglass forces: tests/fe/test_element.py,
+tests/fe/test_hourglass.py); the solver never calls it.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import prange
+
+from peenflow._jit import jit, jit_twins
+from peenflow.fe.element import (H1, H2, H3, H4, ST_DISTORTION, ST_NEGATIVE_VOLUME, ST_OK, SX, SY, SZ,
+                                 _element_frame, _physical_increments, hourglass_omega2_factor)
+from peenflow.fe.johnson_cook import (HG_PHYSICAL, M_ADIABATIC, M_BULK_LIN, M_BULK_QUAD, M_HEAT, M_HG, M_HG_FLOOR,
+                                      M_HG_TYPE, M_LAM, M_MU, M_RHO, static_flow_stress, stress_update,
+                                      thermal_factor)
+
+
+@jit(inline="always")
+def _rotate(r11, r12, r13, r21, r22, r23, r31, r32, r33, x, y, z):
+    """``R (x, y, z)`` for the 3 x 3 matrix of rows ``r1, r2, r3``."""
+    return r11 * x + r12 * y + r13 * z, r21 * x + r22 * y + r23 * z, r31 * x + r32 * y + r33 * z
+
+
+@jit
+def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt):
+    """Update element ``e`` whose first node is ``n0``; scatter its forces into ``f``.
+
+    Returns ``(dt_e, status, dW_int, dW_plastic, dW_hourglass, dW_viscous)``
+    (s, -, J, J, J, J).
+    """
+    hdt = 0.5 * dt
+    nd0 = n0
+    nd1 = n0 + 1
+    nd2 = n0 + 1 + nnx
+    nd3 = n0 + nnx
+    nodes = (nd0, nd1, nd2, nd3, nd0 + nnxy, nd1 + nnxy, nd2 + nnxy, nd3 + nnxy)
+    g1x = g1y = g1z = g2x = g2y = g2z = g3x = g3y = g3z = 0.0
+    v1x = v1y = v1z = v2x = v2y = v2z = v3x = v3y = v3z = 0.0
+    s1x = s1y = s1z = s2x = s2y = s2z = s3x = s3y = s3z = s4x = s4y = s4z = 0.0
+    h1x = h1y = h1z = h2x = h2y = h2z = h3x = h3y = h3z = h4x = h4y = h4z = 0.0
+    for I in range(8):
+        n = nodes[I]
+        vx = v[n, 0]
+        vy = v[n, 1]
+        vz = v[n, 2]
+        px = x[n, 0] - hdt * vx
+        py = x[n, 1] - hdt * vy
+        pz = x[n, 2] - hdt * vz
+        a = SX[I]
+        b = SY[I]
+        c = SZ[I]
+        g1x += a * px
+        g1y += a * py
+        g1z += a * pz
+        g2x += b * px
+        g2y += b * py
+        g2z += b * pz
+        g3x += c * px
+        g3y += c * py
+        g3z += c * pz
+        v1x += a * vx
+        v1y += a * vy
+        v1z += a * vz
+        v2x += b * vx
+        v2y += b * vy
+        v2z += b * vz
+        v3x += c * vx
+        v3y += c * vy
+        v3z += c * vz
+        a = H1[I]
+        s1x += a * px
+        s1y += a * py
+        s1z += a * pz
+        h1x += a * vx
+        h1y += a * vy
+        h1z += a * vz
+        a = H2[I]
+        s2x += a * px
+        s2y += a * py
+        s2z += a * pz
+        h2x += a * vx
+        h2y += a * vy
+        h2z += a * vz
+        a = H3[I]
+        s3x += a * px
+        s3y += a * py
+        s3z += a * pz
+        h3x += a * vx
+        h3y += a * vy
+        h3z += a * vz
+        a = H4[I]
+        s4x += a * px
+        s4y += a * py
+        s4z += a * pz
+        h4x += a * vx
+        h4y += a * vy
+        h4z += a * vz
+    r8 = 0.125
+    g1x *= r8
+    g1y *= r8
+    g1z *= r8
+    g2x *= r8
+    g2y *= r8
+    g2z *= r8
+    g3x *= r8
+    g3y *= r8
+    g3z *= r8
+    v1x *= r8
+    v1y *= r8
+    v1z *= r8
+    v2x *= r8
+    v2y *= r8
+    v2z *= r8
+    v3x *= r8
+    v3y *= r8
+    v3z *= r8
+    # cross products c_k (face area vectors / 4) and determinant
+    c1x = g2y * g3z - g2z * g3y
+    c1y = g2z * g3x - g2x * g3z
+    c1z = g2x * g3y - g2y * g3x
+    c2x = g3y * g1z - g3z * g1y
+    c2y = g3z * g1x - g3x * g1z
+    c2z = g3x * g1y - g3y * g1x
+    c3x = g1y * g2z - g1z * g2y
+    c3y = g1z * g2x - g1x * g2z
+    c3z = g1x * g2y - g1y * g2x
+    det = g1x * c1x + g1y * c1y + g1z * c1z
+    if not (det > 0.0):
+        return 0.0, ST_NEGATIVE_VOLUME, 0.0, 0.0, 0.0, 0.0
+    vol = 8.0 * det
+    ratio = vol / vol0[e]
+    if ratio < 0.1 or ratio > 10.0:
+        return 0.0, ST_DISTORTION, 0.0, 0.0, 0.0, 0.0
+    idet = 1.0 / det
+    # dual vectors g^k
+    d1x = c1x * idet
+    d1y = c1y * idet
+    d1z = c1z * idet
+    d2x = c2x * idet
+    d2y = c2y * idet
+    d2z = c2z * idet
+    d3x = c3x * idet
+    d3y = c3y * idet
+    d3z = c3z * idet
+    # velocity gradient L_ab = sum_k vk_a g^k_b
+    lxx = v1x * d1x + v2x * d2x + v3x * d3x
+    lxy = v1x * d1y + v2x * d2y + v3x * d3y
+    lxz = v1x * d1z + v2x * d2z + v3x * d3z
+    lyx = v1y * d1x + v2y * d2x + v3y * d3x
+    lyy = v1y * d1y + v2y * d2y + v3y * d3y
+    lyz = v1y * d1z + v2y * d2z + v3y * d3z
+    lzx = v1z * d1x + v2z * d2x + v3z * d3x
+    lzy = v1z * d1y + v2z * d2y + v3z * d3y
+    lzz = v1z * d1z + v2z * d2z + v3z * d3z
+    dyz = 0.5 * (lyz + lzy)
+    dxz = 0.5 * (lxz + lzx)
+    dxy = 0.5 * (lxy + lyx)
+    wyz = 0.5 * (lyz - lzy)
+    wxz = 0.5 * (lxz - lzx)
+    wxy = 0.5 * (lxy - lyx)
+    o0 = stress[e, 0]
+    o1 = stress[e, 1]
+    o2 = stress[e, 2]
+    o3 = stress[e, 3]
+    o4 = stress[e, 4]
+    o5 = stress[e, 5]
+    ep = eps_p[e]
+    n0_, n1_, n2_, n3_, n4_, n5_, deps, sy, gr, sy_new = stress_update(
+        o0, o1, o2, o3, o4, o5, lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy, dt, ep, sy_static[e], temp[e], mat
+    )
+    stress[e, 0] = n0_
+    stress[e, 1] = n1_
+    stress[e, 2] = n2_
+    stress[e, 3] = n3_
+    stress[e, 4] = n4_
+    stress[e, 5] = n5_
+    dw_pl = 0.0
+    if deps > 0.0:
+        eps_p[e] = ep + deps
+        dw_pl = sy * deps * vol
+        if mat[M_ADIABATIC] != 0.0:
+            temp[e] += mat[M_HEAT] * sy * deps
+            sy_new = static_flow_stress(ep + deps, thermal_factor(temp[e], mat), mat)
+        sy_static[e] = sy_new
+    # stress power (mid-step stress)
+    dw_int = (
+        0.5
+        * dt
+        * vol
+        * (
+            (o0 + n0_) * lxx
+            + (o1 + n1_) * lyy
+            + (o2 + n2_) * lzz
+            + 2.0 * ((o3 + n3_) * dyz + (o4 + n4_) * dxz + (o5 + n5_) * dxy)
+        )
+    )
+    # wave speed, characteristic length, bulk viscosity
+    mod = mat[M_LAM] + 2.0 * mat[M_MU]
+    rho = mat[M_RHO] * vol0[e] / vol
+    c2 = mod / rho
+    cw = math.sqrt(c2)
+    amax = c1x * c1x + c1y * c1y + c1z * c1z
+    t = c2x * c2x + c2y * c2y + c2z * c2z
+    if t > amax:
+        amax = t
+    t = c3x * c3x + c3y * c3y + c3z * c3z
+    if t > amax:
+        amax = t
+    lch = 2.0 * det / math.sqrt(amax)
+    ev = lxx + lyy + lzz
+    qb = 0.0
+    qv = 0.0
+    dw_visc = 0.0
+    if ev < 0.0:
+        qv = mat[M_BULK_LIN] * cw - mat[M_BULK_QUAD] * lch * ev
+        qb = -rho * lch * qv * ev
+        dw_visc = -qb * ev * vol * dt
+    qhg = mat[M_HG]
+    om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
+    om2 = om * om + hourglass_omega2_factor(mat) * c2 / (lch * lch)
+    dt_e = 2.0 / math.sqrt(om2)
+    # t_k = V (sigma - q I) g^k
+    sxx = (n0_ - qb) * vol
+    syy = (n1_ - qb) * vol
+    szz = (n2_ - qb) * vol
+    syz = n3_ * vol
+    sxz = n4_ * vol
+    sxy = n5_ * vol
+    t1x = (sxx * d1x + sxy * d1y + sxz * d1z) * r8
+    t1y = (sxy * d1x + syy * d1y + syz * d1z) * r8
+    t1z = (sxz * d1x + syz * d1y + szz * d1z) * r8
+    t2x = (sxx * d2x + sxy * d2y + sxz * d2z) * r8
+    t2y = (sxy * d2x + syy * d2y + syz * d2z) * r8
+    t2z = (sxz * d2x + syz * d2y + szz * d2z) * r8
+    t3x = (sxx * d3x + sxy * d3y + sxz * d3z) * r8
+    t3y = (sxy * d3x + syy * d3y + syz * d3z) * r8
+    t3z = (sxz * d3x + syz * d3y + szz * d3z) * r8
+    # hourglass: w_ak = (s_a . g^k)/8, q_a = h_a - sum_k w_ak * 8 vk
+    w11 = (s1x * d1x + s1y * d1y + s1z * d1z) * r8
+    w12 = (s1x * d2x + s1y * d2y + s1z * d2z) * r8
+    w13 = (s1x * d3x + s1y * d3y + s1z * d3z) * r8
+    w21 = (s2x * d1x + s2y * d1y + s2z * d1z) * r8
+    w22 = (s2x * d2x + s2y * d2y + s2z * d2z) * r8
+    w23 = (s2x * d3x + s2y * d3y + s2z * d3z) * r8
+    w31 = (s3x * d1x + s3y * d1y + s3z * d1z) * r8
+    w32 = (s3x * d2x + s3y * d2y + s3z * d2z) * r8
+    w33 = (s3x * d3x + s3y * d3y + s3z * d3z) * r8
+    w41 = (s4x * d1x + s4y * d1y + s4z * d1z) * r8
+    w42 = (s4x * d2x + s4y * d2y + s4z * d2z) * r8
+    w43 = (s4x * d3x + s4y * d3y + s4z * d3z) * r8
+    q1x = h1x - 8.0 * (w11 * v1x + w12 * v2x + w13 * v3x)
+    q1y = h1y - 8.0 * (w11 * v1y + w12 * v2y + w13 * v3y)
+    q1z = h1z - 8.0 * (w11 * v1z + w12 * v2z + w13 * v3z)
+    q2x = h2x - 8.0 * (w21 * v1x + w22 * v2x + w23 * v3x)
+    q2y = h2y - 8.0 * (w21 * v1y + w22 * v2y + w23 * v3y)
+    q2z = h2z - 8.0 * (w21 * v1z + w22 * v2z + w23 * v3z)
+    q3x = h3x - 8.0 * (w31 * v1x + w32 * v2x + w33 * v3x)
+    q3y = h3y - 8.0 * (w31 * v1y + w32 * v2y + w33 * v3y)
+    q3z = h3z - 8.0 * (w31 * v1z + w32 * v2z + w33 * v3z)
+    q4x = h4x - 8.0 * (w41 * v1x + w42 * v2x + w43 * v3x)
+    q4y = h4y - 8.0 * (w41 * v1y + w42 * v2y + w43 * v3y)
+    q4z = h4z - 8.0 * (w41 * v1z + w42 * v2z + w43 * v3z)
+    o = hg[e]
+    physical = mat[M_HG_TYPE] == HG_PHYSICAL
+    if physical:
+        # assumed-strain stabilisation in the element frame: rates to the
+        # frame, force increments from the element's tangent (shear modulus
+        # of this step's return, bulk modulus elastic); the stored forces stay
+        # in the frame, so a rigid rotation carries them along
+        e11, e12, e13, e21, e22, e23, e31, e32, e33, b1, b2, b3 = _element_frame(
+            g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
+        p1x, p1y, p1z = _rotate(e11, e12, e13, e21, e22, e23, e31, e32, e33, q1x, q1y, q1z)
+        p2x, p2y, p2z = _rotate(e11, e12, e13, e21, e22, e23, e31, e32, e33, q2x, q2y, q2z)
+        p3x, p3y, p3z = _rotate(e11, e12, e13, e21, e22, e23, e31, e32, e33, q3x, q3y, q3z)
+        p4x, p4y, p4z = _rotate(e11, e12, e13, e21, e22, e23, e31, e32, e33, q4x, q4y, q4z)
+        mu = mat[M_MU]
+        k1x, k1y, k1z, k2x, k2y, k2z, k3x, k3y, k3z, k4x, k4y, k4z = _physical_increments(
+            p1x, p1y, p1z, p2x, p2y, p2z, p3x, p3y, p3z, p4x, p4y, p4z, b1, b2, b3, mu * gr,
+            mat[M_LAM] + 2.0 * mu / 3.0, dt * vol / 192.0)
+    else:
+        # stiffness form in global axes: the rates are the global ones
+        e11 = e12 = e13 = e21 = e22 = e23 = e31 = e32 = e33 = 0.0
+        p1x, p1y, p1z, p2x, p2y, p2z, p3x, p3y, p3z, p4x, p4y, p4z = (
+            q1x, q1y, q1z, q2x, q2y, q2z, q3x, q3y, q3z, q4x, q4y, q4z)
+        gsum = d1x * d1x + d1y * d1y + d1z * d1z + d2x * d2x + d2y * d2y + d2z * d2z + d3x * d3x + d3y * d3y + d3z * d3z
+        # hourglass stiffness follows the element's deviatoric tangent: full when
+        # elastic, reduced (not below M_HG_FLOOR) in a yielding element, whose
+        # elastic hourglass stiffness would otherwise stiffen the dent
+        if gr < mat[M_HG_FLOOR]:
+            gr = mat[M_HG_FLOOR]
+        khg = qhg * mod * vol * gsum / 24.0 * dt * gr
+        k1x = khg * q1x
+        k1y = khg * q1y
+        k1z = khg * q1z
+        k2x = khg * q2x
+        k2y = khg * q2y
+        k2z = khg * q2z
+        k3x = khg * q3x
+        k3y = khg * q3y
+        k3z = khg * q3z
+        k4x = khg * q4x
+        k4y = khg * q4y
+        k4z = khg * q4z
+    # stored forces (element frame for the physical form, global axes for the
+    # stiffness form) grow by the increments; work at mid-step force
+    l1x = o[0] + k1x
+    l1y = o[1] + k1y
+    l1z = o[2] + k1z
+    l2x = o[3] + k2x
+    l2y = o[4] + k2y
+    l2z = o[5] + k2z
+    l3x = o[6] + k3x
+    l3y = o[7] + k3y
+    l3z = o[8] + k3z
+    l4x = o[9] + k4x
+    l4y = o[10] + k4y
+    l4z = o[11] + k4z
+    dw_hg = 0.5 * dt * (
+        (o[0] + l1x) * p1x + (o[1] + l1y) * p1y + (o[2] + l1z) * p1z
+        + (o[3] + l2x) * p2x + (o[4] + l2y) * p2y + (o[5] + l2z) * p2z
+        + (o[6] + l3x) * p3x + (o[7] + l3y) * p3y + (o[8] + l3z) * p3z
+        + (o[9] + l4x) * p4x + (o[10] + l4y) * p4y + (o[11] + l4z) * p4z
+    )
+    o[0] = l1x
+    o[1] = l1y
+    o[2] = l1z
+    o[3] = l2x
+    o[4] = l2y
+    o[5] = l2z
+    o[6] = l3x
+    o[7] = l3y
+    o[8] = l3z
+    o[9] = l4x
+    o[10] = l4y
+    o[11] = l4z
+    if physical:
+        # back to global axes (the frame's transpose)
+        f1x, f1y, f1z = _rotate(e11, e21, e31, e12, e22, e32, e13, e23, e33, l1x, l1y, l1z)
+        f2x, f2y, f2z = _rotate(e11, e21, e31, e12, e22, e32, e13, e23, e33, l2x, l2y, l2z)
+        f3x, f3y, f3z = _rotate(e11, e21, e31, e12, e22, e32, e13, e23, e33, l3x, l3y, l3z)
+        f4x, f4y, f4z = _rotate(e11, e21, e31, e12, e22, e32, e13, e23, e33, l4x, l4y, l4z)
+    else:
+        f1x, f1y, f1z, f2x, f2y, f2z, f3x, f3y, f3z, f4x, f4y, f4z = (
+            l1x, l1y, l1z, l2x, l2y, l2z, l3x, l3y, l3z, l4x, l4y, l4z)
+    for I in range(8):
+        n = nodes[I]
+        a = SX[I]
+        b = SY[I]
+        c = SZ[I]
+        ga1 = H1[I] - (w11 * a + w12 * b + w13 * c)
+        ga2 = H2[I] - (w21 * a + w22 * b + w23 * c)
+        ga3 = H3[I] - (w31 * a + w32 * b + w33 * c)
+        ga4 = H4[I] - (w41 * a + w42 * b + w43 * c)
+        f[n, 0] -= a * t1x + b * t2x + c * t3x + ga1 * f1x + ga2 * f2x + ga3 * f3x + ga4 * f4x
+        f[n, 1] -= a * t1y + b * t2y + c * t3y + ga1 * f1y + ga2 * f2y + ga3 * f3y + ga4 * f4y
+        f[n, 2] -= a * t1z + b * t2z + c * t3z + ga1 * f1z + ga2 * f2z + ga3 * f3z + ga4 * f4z
+    return dt_e, ST_OK, dw_int, dw_pl, dw_hg, dw_visc
+
+
+def _element_pass(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1):
+    """All elements of the index box ``[i0,i1) x [j0,j1) x [k0,k1)``, in 8 colours.
+
+    ``f`` (n_nodes, 3) N must be zero on the box's nodes on entry; it returns
+    the nodal forces ``-f_int``. Returns ``(dt_min, status, dW_int, dW_plastic,
+    dW_hourglass, dW_viscous)``.
+    """
+    nnxy = nnx * nny
+    dtmin = 1e30
+    status = 0
+    wi = 0.0
+    wp = 0.0
+    wh = 0.0
+    wv = 0.0
+    for colour in range(8):
+        ci = colour & 1
+        cj = (colour >> 1) & 1
+        ck = (colour >> 2) & 1
+        ni = (i1 - i0 - ci + 1) // 2
+        nj = (j1 - j0 - cj + 1) // 2
+        nk = (k1 - k0 - ck + 1) // 2
+        if ni <= 0 or nj <= 0 or nk <= 0:
+            continue
+        for jk in prange(nj * nk):
+            kk = jk // nj
+            jj = jk - kk * nj
+            k = k0 + ck + 2 * kk
+            j = j0 + cj + 2 * jj
+            for ii in range(ni):
+                i = i0 + ci + 2 * ii
+                e = i + nx * (j + ny * k)
+                n0 = i + nnx * (j + nny * k)
+                dte, st, a1, a2, a3, a4 = element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt)
+                dtmin = min(dtmin, dte)
+                status = max(status, st)
+                wi += a1
+                wp += a2
+                wh += a3
+                wv += a4
+    return dtmin, status, wi, wp, wh, wv
+
+
+element_pass, element_pass_parallel = jit_twins(_element_pass)
