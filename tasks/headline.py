@@ -6,8 +6,8 @@ velocity for the target intensity, d_min and the REV, the dent, N_f and N_c,
 and the residual-stress profile's surface value, peak, depth of the peak and
 compressive depth.  Each row is ``(quantity, value with unit, note)``.
 
-The preset's stated error is not printed yet: the fidelity presets do not
-state one (see BENCHMARKS.md for measured mesh errors).
+The last row names the fidelity and its measured error
+(:mod:`peenflow.study.accuracy`), as every result of the study records it.
 """
 
 from __future__ import annotations
@@ -126,5 +126,9 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
             rows.append((f"peak sigma_{c}", _pm(m[k], s[k], "MPa", 0), f"at {z[k] * 1e3:.3f} mm depth"))
         zc, how = compressive_depth(z, prof.stress_xx_mean_Pa.values)
         rows.append(("compressive depth (sigma_xx)", f"{zc * 1e3:.3f} mm" if zc is not None else "n/a", how))
+    if rows and graph.result_attrs.get("peenflow_fidelity"):  # what made these numbers, and its measured error
+        rows.append(("fidelity", graph.result_attrs["peenflow_fidelity"].split(":")[0],
+                     graph.result_attrs["peenflow_fidelity"].split(": ", 1)[-1] + "; "
+                     + graph.result_attrs.get("peenflow_fidelity_error", "")))
     return rows
 

@@ -26,6 +26,7 @@ from pathlib import Path
 from peenflow.engine import Graph
 from peenflow.engine.growth import Grow
 from peenflow.study import load_study
+from peenflow.study.accuracy import statement as fidelity_statement
 
 from ._common import SWEEP_COORDS
 from .arc_height import arc_height
@@ -82,6 +83,7 @@ def build_graph(path) -> Graph:
     p = study_params(study)  # every stage parameter, in SI, read once
     g = Graph(study.name)
     g.coord_attrs = dict(SWEEP_COORDS)
+    g.result_attrs = fidelity_statement(study.fidelity)  # what made each result, and its measured error
     D = p.shot.diameter_m
     kernel = {"shot": p.shot, "fidelity": p.fidelity}
     control = None
