@@ -141,7 +141,9 @@ def test_rev_rules_in_one_place():
     assert RevGeometry.by_rule("explicit", D, side=1.2e-3, measuring_side=0.6e-3).measuring_side == 0.6e-3
     with pytest.raises(ValueError, match="needs the d_min"):
         RevGeometry.by_rule("dmin", D)
-    with pytest.raises(ValueError, match="must be smaller than the REV side"):
-        RevGeometry.by_rule("explicit", D, side=1.2e-3, measuring_side=1.2e-3)
+    # the whole face is a measuring region (periodic faces have no edge to avoid); more is refused
+    assert RevGeometry.by_rule("explicit", D, side=1.2e-3, measuring_side=1.2e-3).measuring_side == 1.2e-3
+    with pytest.raises(ValueError, match="at most the REV side"):
+        RevGeometry.by_rule("explicit", D, side=1.2e-3, measuring_side=1.3e-3)
     with pytest.raises(ValueError, match="unknown REV rule"):
         RevGeometry.by_rule("6D", D)
