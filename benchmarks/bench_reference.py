@@ -132,6 +132,7 @@ def _collect(study: Path) -> dict:
                           for n in np.asarray(arc.shots).tolist()},
         "profiles": profiles,
         "code": str(fp),
+        "settings": str(runs.attrs.get("peenflow_fidelity", "")),
     }
 
 
