@@ -9,9 +9,14 @@ clean).  Dent depth, sigma_xx peak and zero-crossing depth in per cent of the
 reference, restitution as a difference, the sigma_xx(z) profile as its RMS
 over 0-0.3 mm in per cent of the reference peak.
 
-Study level (the Almen intensity, the velocity for a target intensity, N_f and
-the residual profile against converged study references, BENCHMARKS.md
-section 9): not measured yet, and said so.
+Study level (BENCHMARKS.md section 9, ``benchmarks/bench_reference.py``):
+the Almen intensity of two strip points (90 deg / 55 m/s and 67.5 deg /
+35 m/s; periodic 1.2 mm REV, standard preset values, only the element size
+varied, paired shot streams) against its Richardson extrapolation from 60 /
+40 / 25 um.  Provisional: the observed orders are 1.0-1.4, so the
+extrapolation itself is uncertain until a finer level confirms it.  The
+velocity for a target intensity, N_f and the profile are not measured yet,
+and said so.
 
 A statement is written on every result a study computes (the engine's
 ``graph.result_attrs``: provenance, outside keys and content hashes), printed
@@ -20,7 +25,8 @@ with the headline numbers and tabled in README.md.
 
 from __future__ import annotations
 
-__all__ = ["SINGLE_IMPACT", "SINGLE_IMPACT_SOURCE", "STUDY_LEVEL_SOURCE", "single_impact_error", "statement"]
+__all__ = ["SINGLE_IMPACT", "SINGLE_IMPACT_SOURCE", "STUDY_LEVEL_INTENSITY", "STUDY_LEVEL_SOURCE",
+           "single_impact_error", "study_level_error", "statement"]
 
 #: element size um -> worst error over the four cases: (dent %, sigma_xx peak %, zero crossing %,
 #: restitution, profile RMS %), BENCHMARKS.md section 4c
@@ -32,6 +38,13 @@ SINGLE_IMPACT: dict[float, tuple[float, float, float, float, float]] = {
     12.5: (1.2, 5.2, 0.2, 0.006, 3.3),
 }
 SINGLE_IMPACT_SOURCE = "BENCHMARKS.md section 4c"
+#: element size um -> (smallest, largest) intensity error in % over the two strip points, against
+#: the Richardson extrapolation from 60 / 40 / 25 um (provisional), BENCHMARKS.md section 9
+STUDY_LEVEL_INTENSITY: dict[float, tuple[float, float]] = {
+    60.0: (-17.0, -10.3),
+    40.0: (-11.4, -5.8),
+    25.0: (-7.1, -2.9),
+}
 STUDY_LEVEL_SOURCE = "BENCHMARKS.md section 9"
 
 
@@ -45,6 +58,16 @@ def single_impact_error(element_size_um: float) -> str | None:
     return None
 
 
+def study_level_error(element_size_um: float) -> str:
+    """The measured study-level error at this element size as one sentence."""
+    for h, (lo, hi) in STUDY_LEVEL_INTENSITY.items():
+        if abs(h - element_size_um) <= 1e-9 * h:
+            return (f"study level, provisional ({STUDY_LEVEL_SOURCE}: 2 strip points, Richardson from 60 / 40 / "
+                    f"25 um): Almen intensity {lo:+.1f} ... {hi:+.1f} % at {h:g} um; the velocity for a target "
+                    "intensity, N_f and the profile not measured yet")
+    return f"study level not measured at {element_size_um:g} um ({STUDY_LEVEL_SOURCE})"
+
+
 def statement(fidelity) -> dict[str, str]:
     """``peenflow_fidelity`` (what made the result) and ``peenflow_fidelity_error`` (what that is
     measured to cost) for a loaded :class:`~peenflow.study.fidelity.Fidelity`."""
@@ -54,6 +77,5 @@ def statement(fidelity) -> dict[str, str]:
         + ", ".join(f"{k:g}" for k in SINGLE_IMPACT) + f" um, {SINGLE_IMPACT_SOURCE})")
     return {
         "peenflow_fidelity": f"{fidelity.describe()}: {h:g} um elements, lateral faces {fidelity.lateral_boundary}",
-        "peenflow_fidelity_error": f"{single}; study level (intensity, velocity, N_f, profile): not measured "
-                                   f"yet ({STUDY_LEVEL_SOURCE})",
+        "peenflow_fidelity_error": f"{single}; {study_level_error(h)}",
     }

@@ -6,7 +6,7 @@ import re
 from pathlib import Path
 
 from peenflow.study import load_study
-from peenflow.study.accuracy import SINGLE_IMPACT, statement
+from peenflow.study.accuracy import SINGLE_IMPACT, STUDY_LEVEL_INTENSITY, statement
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -38,7 +38,29 @@ def test_a_measured_size_states_its_error_and_an_unmeasured_one_says_so(tmp_path
     s = statement(study.fidelity)
     assert s["peenflow_fidelity"].startswith("coarse") and "60 um" in s["peenflow_fidelity"]
     assert "dent depth <= 8.4 %" in s["peenflow_fidelity_error"]
-    assert "study level" in s["peenflow_fidelity_error"] and "not measured yet" in s["peenflow_fidelity_error"]
+    assert "Almen intensity -17.0 ... -10.3 % at 60 um" in s["peenflow_fidelity_error"]
     micro = load_study(REPO / "tests" / "tasks" / "micro.toml")  # 100 um
     assert "not measured at 100 um" in statement(micro.fidelity)["peenflow_fidelity_error"]
 
+
+
+def test_the_study_level_numbers_are_the_measured_ones():
+    """STUDY_LEVEL_INTENSITY equals what benchmarks/reference/study_level.json gives through the
+    benchmark's own Richardson extrapolation (60 / 40 / 25 um), to the 0.1 % it is rounded to."""
+    import json
+    import sys
+
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from bench_reference import OUT, richardson
+
+    data = json.loads(OUT.read_text())
+    errors = {h: [] for h in STUDY_LEVEL_INTENSITY}
+    for point in ("strip_90_55", "strip_67_35"):
+        hs = [60.0, 40.0, 25.0]
+        fs = [data[f"{point}/{h:g}"]["intensity_mm"] for h in hs]
+        ref, p = richardson(hs, fs)
+        assert ref is not None and 0.5 <= p <= 4.0
+        for h, f in zip(hs, fs):
+            errors[h].append(100.0 * (f / ref - 1.0))
+    for h, (lo, hi) in STUDY_LEVEL_INTENSITY.items():
+        assert (round(min(errors[h]), 1), round(max(errors[h]), 1)) == (lo, hi), (h, errors[h])
