@@ -12,11 +12,12 @@ over 0-0.3 mm in per cent of the reference peak.
 Study level (BENCHMARKS.md section 9, ``benchmarks/bench_reference.py``):
 the Almen intensity of two strip points (90 deg / 55 m/s and 67.5 deg /
 35 m/s; periodic 1.2 mm REV, standard preset values, only the element size
-varied, paired shot streams) against its Richardson extrapolation from 60 /
-40 / 25 um.  Provisional: the observed orders are 1.0-1.4, so the
-extrapolation itself is uncertain until a finer level confirms it.  The
-velocity for a target intensity, N_f and the profile are not measured yet,
-and said so.
+varied, paired shot streams) against its reference: the Richardson
+extrapolation of the three finest levels (40 / 25 / 16 um) where they
+converge monotonically with an order in [0.5, 4], else the finest level.
+Two points, so a statement of what was measured, not a bound.  The velocity
+for a target intensity, N_f and the profile are not measured yet, and said
+so.
 
 A statement is written on every result a study computes (the engine's
 ``graph.result_attrs``: provenance, outside keys and content hashes), printed
@@ -39,11 +40,11 @@ SINGLE_IMPACT: dict[float, tuple[float, float, float, float, float]] = {
 }
 SINGLE_IMPACT_SOURCE = "BENCHMARKS.md section 4c"
 #: element size um -> (smallest, largest) intensity error in % over the two strip points, against
-#: the Richardson extrapolation from 60 / 40 / 25 um (provisional), BENCHMARKS.md section 9
+#: their references (module docstring), BENCHMARKS.md section 9
 STUDY_LEVEL_INTENSITY: dict[float, tuple[float, float]] = {
-    60.0: (-17.0, -10.3),
-    40.0: (-11.4, -5.8),
-    25.0: (-7.1, -2.9),
+    60.0: (-10.6, -9.3),
+    40.0: (-4.7, -4.5),
+    25.0: (-1.8, 0.1),
 }
 STUDY_LEVEL_SOURCE = "BENCHMARKS.md section 9"
 
@@ -62,8 +63,8 @@ def study_level_error(element_size_um: float) -> str:
     """The measured study-level error at this element size as one sentence."""
     for h, (lo, hi) in STUDY_LEVEL_INTENSITY.items():
         if abs(h - element_size_um) <= 1e-9 * h:
-            return (f"study level, provisional ({STUDY_LEVEL_SOURCE}: 2 strip points, Richardson from 60 / 40 / "
-                    f"25 um): Almen intensity {lo:+.1f} ... {hi:+.1f} % at {h:g} um; the velocity for a target "
+            return (f"study level ({STUDY_LEVEL_SOURCE}: 2 strip points against references from 40 / 25 / 16 um): "
+                    f"Almen intensity {lo:+.1f} ... {hi:+.1f} % at {h:g} um; the velocity for a target "
                     "intensity, N_f and the profile not measured yet")
     return f"study level not measured at {element_size_um:g} um ({STUDY_LEVEL_SOURCE})"
 
