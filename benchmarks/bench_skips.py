@@ -37,7 +37,7 @@ import peenflow
 from peenflow.methods import fit_sequences, sequences_verdict
 from peenflow.study import load_study
 from tasks._rev_run import run_rev
-from tasks.arc_height import release
+from tasks.arc_height import rung_releases
 from tasks.params import LadderParams, study_params
 from tasks.saturation import MODELS
 
@@ -47,8 +47,8 @@ def _intensity(runs, strip, model):
     counts = sorted({int(n) for r in runs for n in r.shots.values})
     ah = np.full((len(runs), len(counts)), np.nan)
     for s, r in enumerate(runs):
-        for k, n in enumerate(r.shots.values):
-            ah[s, counts.index(int(n))] = release(r.z_edge_m.values, r.stress_xx_Pa.values[k], strip)[0]
+        ah[s, [counts.index(int(n)) for n in r.shots.values]] = rung_releases(
+            r.z_edge_m.values, r.stress_xx_Pa.transpose("shots", "layer").values, strip)[0]
     try:
         res = fit_sequences(np.array(counts, float), ah, model)
     except ValueError as exc:  # the ladder did not saturate at all: the fixed ladder's usual failure

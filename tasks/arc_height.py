@@ -33,15 +33,7 @@ def arc_height(runs: xr.Dataset, *, strip: StripParams, angle_deg: float | None 
     if z_edges.ndim > 1:  # combined along sequence: identical meshes
         z_edges = z_edges.reshape(-1, z_edges.shape[-1])[0]
     sxx = runs.stress_xx_Pa.transpose("sequence", "shots", "layer").values
-    n_seq, n_shots, _ = sxx.shape
-    ah = np.full((n_seq, n_shots), np.nan)
-    force = np.full_like(ah, np.nan)
-    moment = np.full_like(ah, np.nan)
-    for s in range(n_seq):
-        for k in range(n_shots):
-            if not np.all(np.isfinite(sxx[s, k])):  # a rung this sequence's ladder did not reach
-                continue
-            ah[s, k], force[s, k], moment[s, k] = release(z_edges, sxx[s, k], strip)
+    ah, force, moment = np.array([rung_releases(z_edges, seq, strip) for seq in sxx]).transpose(1, 0, 2)
     dims = ("sequence", "shots")
     return xr.Dataset(
         {
@@ -53,6 +45,18 @@ def arc_height(runs: xr.Dataset, *, strip: StripParams, angle_deg: float | None 
                 "shots": var(runs.shots.values, ("shots",), "1", "number of shots N")},
         attrs={"strip_thickness_m": strip.thickness_m, "gauge_span_m": strip.gauge_span_m},
     )
+
+
+def rung_releases(z_edges, sxx_rungs, strip: StripParams) -> np.ndarray:
+    """(arc height m, clamp force N, clamp moment N m), shape (3, rungs), of one sequence's σx profiles
+    ``sxx_rungs`` (rungs, layer), Pa; NaN at a rung the sequence's ladder did not reach (a profile
+    that is not finite).  What ``arc_height`` computes per sequence, and the adaptive-sequences
+    rule per run (tasks/strip_sequences.py)."""
+    out = np.full((3, len(sxx_rungs)), np.nan)
+    for k, sxx in enumerate(sxx_rungs):
+        if np.all(np.isfinite(sxx)):
+            out[:, k] = release(z_edges, sxx, strip)
+    return out
 
 
 def release(z_edges, sxx, strip: StripParams) -> tuple[float, float, float]:

@@ -126,9 +126,9 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
             rows.append((f"peak sigma_{c}", _pm(m[k], s[k], "MPa", 0), f"at {z[k] * 1e3:.3f} mm depth"))
         zc, how = compressive_depth(z, prof.stress_xx_mean_Pa.values)
         rows.append(("compressive depth (sigma_xx)", f"{zc * 1e3:.3f} mm" if zc is not None else "n/a", how))
-    if rows and graph.result_attrs.get("peenflow_fidelity"):  # what made these numbers, and its measured error
-        rows.append(("fidelity", graph.result_attrs["peenflow_fidelity"].split(":")[0],
-                     graph.result_attrs["peenflow_fidelity"].split(": ", 1)[-1] + "; "
-                     + graph.result_attrs.get("peenflow_fidelity_error", "")))
+    fidelity = graph.result_attrs.get("peenflow_fidelity")
+    if rows and fidelity:  # what made these numbers ("preset: mesh"), and its measured error
+        preset, _, mesh = fidelity.partition(": ")
+        rows.append(("fidelity", preset, f"{mesh}; {graph.result_attrs.get('peenflow_fidelity_error', '')}"))
     return rows
 

@@ -18,7 +18,7 @@ import xarray as xr
 from peenflow.engine.growth import GrowVerdict
 from peenflow.methods import fit_saturation
 
-from .arc_height import release
+from .arc_height import rung_releases
 from .params import SequencesParams, StripParams
 from .saturation import MODELS
 
@@ -31,14 +31,9 @@ def sequence_intensity_m(run: xr.Dataset, fit: str, strip: StripParams) -> float
     """
     counts = np.asarray(run.shots.values, dtype=float)
     z_edges = np.asarray(run.z_edge_m.values).reshape(-1)
-    sxx = run.stress_xx_Pa.transpose("shots", "layer").values
-    ah = np.full(counts.size, np.nan)
-    for k in range(counts.size):
-        if np.all(np.isfinite(sxx[k])):
-            ah[k] = release(z_edges, sxx[k], strip)[0]
-    ok = np.isfinite(ah)
-    try:
-        return float(fit_saturation(counts[ok], ah[ok], MODELS[fit]).intensity)
+    ah = rung_releases(z_edges, run.stress_xx_Pa.transpose("shots", "layer").values, strip)[0]
+    try:  # NaN rungs are dropped by the fit, as in the saturation stage
+        return float(fit_saturation(counts, ah, MODELS[fit]).intensity)
     except ValueError:
         return float("nan")
 

@@ -80,7 +80,7 @@ class Sweep:
     grow: Any = None  # growth.Grow | None
     grow_values: list = field(default_factory=list)  # every value grow.dim may take, in order
     make_node: Any = None  # coords -> Node (growing sweeps only)
-    groups: list = field(default_factory=list)  # [(selecting coords, Group)] handed downstream
+    groups: list = field(default_factory=list)  # growing sweeps: [(selecting coords, Group)] handed downstream
 
     def select(self, **coords) -> Group | Node:
         """Points matching ``coords``; a single point if every dim is fixed."""
@@ -91,13 +91,14 @@ class Sweep:
         rest = tuple(d for d in self.dims if d not in coords)
         if not rest and len(picked) == 1:
             return picked[0]
-        group = Group(picked, rest)
-        self.groups.append((dict(coords), group))
-        return group
+        return self._handed_down(Group(picked, rest), coords)
 
     def all(self) -> Group:
-        group = Group(list(self.nodes), self.dims)
-        self.groups.append(({}, group))
+        return self._handed_down(Group(list(self.nodes), self.dims), {})
+
+    def _handed_down(self, group: Group, coords: dict) -> Group:
+        if self.grow is not None:  # a later point of this sweep must join the groups it belongs to
+            self.groups.append((dict(coords), group))
         return group
 
 
@@ -127,6 +128,8 @@ class Graph:
         #: where each group of a growing sweep stands after the last ``growth.resolve``
         #: (``{stage: {group label: growth.GroupState}}``)
         self.growth: dict = {}
+        #: the growth rules' verdicts, by (stage, content hashes of the group's points): asked once each
+        self.growth_verdicts: dict = {}
 
     # -- building -----------------------------------------------------------
     def _register_stage(self, task: Task, stage: str | None) -> str:

@@ -98,7 +98,7 @@ def _stored(graph: Graph, store, members: list[Node]) -> list | None:
 
 
 def _ask(graph: Graph, store, sweep: Sweep, stored: list, coords: dict) -> GrowVerdict:
-    cache = graph.__dict__.setdefault("_growth_verdicts", {})
+    cache = graph.growth_verdicts
     memo = (sweep.stage, tuple(h for _, _, h in stored))
     if memo not in cache:
         from .conventions import squeeze_point
@@ -165,7 +165,7 @@ def resolve(graph: Graph, store) -> list[Node]:
 def held(graph: Graph) -> list[Node]:
     """Points that consume an undecided group (``waiting`` / ``more``), and what depends on them."""
     undecided = set()
-    for per in getattr(graph, "growth", {}).values():
+    for per in graph.growth.values():
         for st in per.values():
             if st.state in ("waiting", "more", "error"):
                 undecided.update(id(n) for n in st.members)
