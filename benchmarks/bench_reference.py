@@ -10,8 +10,11 @@ A LEVEL is an element size in um (``25``), or an element size and a REV side in 
 (``60@2.4``: the same point on a larger periodic REV, measured over its whole face:
 the REV-size convergence of issue 10 §3).
 
-POINT is a study file stem under ``benchmarks/reference/studies/`` (``strip_90_55``,
-``strip_67_35``).  ``run`` writes a copy of the study with ``[fidelity]
+POINT is a study file stem under ``benchmarks/reference/studies/``: a strip point
+(``strip_90_55``, ``strip_67_25``/``30``/``35``) or the §5 target (``al7075_30``: a study
+with ``[target]`` and no ``[almen]``, run up to ``residual_profile``; its figures are the
+mean sigma_xx(z) profile's surface value, peak, peak depth and zero crossing, the dent,
+N_c and the REV depth).  ``run`` writes a copy of the study with ``[fidelity]
 element_size_um = H`` per level into ``benchmarks/reference/store/<POINT>/``
 (git-ignored; the results store is there too, so a killed run resumes where it
 stopped, across sessions), runs ``peenflow run --until saturation`` on it with
@@ -93,15 +96,18 @@ def profile_metrics(z_m: np.ndarray, s_pa: np.ndarray) -> dict:
             "peak_depth_mm": float(z_m[k] * 1e3), "zero_depth_mm": zero * 1e3}
 
 
-def _collect(study: Path) -> dict:
+def _results(study: Path, *stages: str):
+    """The finished results of ``stages`` of the level's study, from its store."""
     from peenflow.api import load_study_graph
     from peenflow.engine import DirectoryStore, stage_result
 
     graph = load_study_graph(study)
     store = DirectoryStore(study.parent / ".peenflow")
-    sat = stage_result(graph, store, "saturation")
-    runs = stage_result(graph, store, "strip_runs")
-    arc = stage_result(graph, store, "arc_height")
+    return [stage_result(graph, store, s) for s in stages]
+
+
+def _collect(study: Path) -> dict:
+    sat, runs, arc = _results(study, "saturation", "strip_runs", "arc_height")
     sq = lambda a: np.asarray(a).squeeze()  # noqa: E731 - the point's length-1 sweep dims
     z_edges = sq(runs.z_edge_m)
     z_edges = z_edges.reshape(-1, z_edges.shape[-1])[0]
@@ -136,12 +142,41 @@ def _collect(study: Path) -> dict:
     }
 
 
+def _collect_target(study: Path) -> dict:
+    prof, cov, thick = _results(study, "residual_profile", "coverage_curve", "target_rev_thickness")
+    sq = lambda a: float(np.asarray(a).squeeze())  # noqa: E731
+    depth = np.asarray(prof.depth_m)
+    order = np.argsort(depth)
+    mean = np.asarray(prof.stress_xx_mean_Pa)[order]
+    per_seq = np.asarray(prof.stress_xx_Pa.transpose("sequence", "layer"))[:, order]
+    entry = {**profile_metrics(depth[order], mean),
+             "z_mm": (depth[order] * 1e3).round(6).tolist(),
+             "sxx_MPa": (mean / 1e6).round(4).tolist(),
+             "sequence_sxx_MPa": (per_seq / 1e6).round(4).tolist(),
+             "sequence_peak_MPa": [float(r.min() / 1e6) for r in per_seq],
+             "peak_yy_MPa": sq(prof.peak_compressive_yy_Pa) / 1e6,
+             "coverage_shots": sq(cov.coverage_shots_rounded),
+             "full_coverage_shots": sq(cov.full_coverage_shots),
+             "rev_thickness_mm": sq(thick.thickness_m) * 1e3}
+    fp = prof.attrs.get("peenflow_source_hash") or prof.attrs.get("peenflow_code", "")
+    entry["code"] = str(fp)
+    entry["settings"] = str(prof.attrs.get("peenflow_fidelity", ""))
+    return entry
+
+
+def _is_target(point: str) -> bool:
+    return any(ln.strip() == "[target]" for ln in (STUDIES / f"{point}.toml").read_text().splitlines()) and not any(
+        ln.strip() == "[almen]" for ln in (STUDIES / f"{point}.toml").read_text().splitlines())
+
+
 def run(point: str, levels: list[str]) -> None:
     for level in levels:
         h, side = _parse_level(level)
         study = _level_study(point, h, side)
         t0, c0 = time.time(), resource.getrusage(resource.RUSAGE_CHILDREN)
-        cmd = [sys.executable, "-m", "peenflow.cli", "run", str(study), "--until", "saturation",
+        target = _is_target(point)
+        cmd = [sys.executable, "-m", "peenflow.cli", "run", str(study),
+               "--until", "residual_profile" if target else "saturation",
                "--workers", "1", "--threads", "1", "--quiet"]
         print("$", " ".join(cmd), flush=True)
         proc = subprocess.run(cmd, capture_output=True, text=True)
@@ -150,7 +185,7 @@ def run(point: str, levels: list[str]) -> None:
         if proc.returncode != 0:
             print(f"level {level} did not finish (rc {proc.returncode}); run again to resume")
             return
-        entry = _collect(study)
+        entry = _collect_target(study) if target else _collect(study)
         key = f"{point}/{_level_name(h, side)}"
         prev = (json.loads(OUT.read_text()) if OUT.exists() else {}).get(key, {})
         # CPU of this call; a resumed level keeps the sum of its calls
@@ -167,8 +202,12 @@ def run(point: str, levels: list[str]) -> None:
         tmp = OUT.with_suffix(".tmp")
         tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
         tmp.replace(OUT)
-        print(f"{key}: intensity {entry['intensity_mm']:.4f} mm, T {entry['saturation_shots']:.0f}, "
-              f"CPU {entry['cpu_s']:.0f} s")
+        if target:
+            print(f"{key}: peak {entry['peak_MPa']:.1f} MPa at {entry['peak_depth_mm']:.3f} mm, "
+                  f"N_c {entry['coverage_shots']:.0f}, CPU {entry['cpu_s']:.0f} s")
+        else:
+            print(f"{key}: intensity {entry['intensity_mm']:.4f} mm, T {entry['saturation_shots']:.0f}, "
+                  f"CPU {entry['cpu_s']:.0f} s")
 
 
 def _template_side(point: str) -> float:
@@ -200,6 +239,9 @@ def table(only: str | None = None) -> None:
     data = json.loads(OUT.read_text()) if OUT.exists() else {}
     points = sorted({k.split("/")[0] for k in data if only in (None, k.split("/")[0])})
     for point in points:
+        if "intensity_mm" not in next(v for k, v in data.items() if k.startswith(point + "/")):
+            _target_table(point, data)
+            continue
         # mesh levels on the study's own REV; larger-REV levels (h@side) in a table of their own
         levels = sorted(((float(k.split("/")[1]), v) for k, v in data.items()
                          if k.startswith(point + "/") and "@" not in k), reverse=True)
@@ -241,6 +283,31 @@ def table(only: str | None = None) -> None:
                 else:
                     print(f"- {name}: Richardson {ext:.4g} (order {p:.2f}); finest level {finest:.4g} "
                           f"({100 * (finest / ext - 1):+.1f} %)")
+
+
+def _target_table(point: str, data: dict) -> None:
+    levels = sorted(((float(k.split("/")[1]), v) for k, v in data.items() if k.startswith(point + "/")),
+                    reverse=True)
+    print(f"\n#### {point} (target profile, mean of the sequences)")
+    print("| h um | surface MPa | peak MPa | per sequence | peak depth mm | zero crossing mm | "
+          "sigma_yy peak MPa | N_c | REV depth mm | CPU s | code |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for h, v in levels:
+        print(f"| {h:g} | {v['surface_MPa']:.0f} | {v['peak_MPa']:.0f} | "
+              + ", ".join(f"{x:.0f}" for x in v["sequence_peak_MPa"])
+              + f" | {v['peak_depth_mm']:.3f} | {v['zero_depth_mm']:.3f} | {v['peak_yy_MPa']:.0f} | "
+              f"{v['coverage_shots']:.0f} | {v['rev_thickness_mm']:.2f} | {v['cpu_s']:.0f} | {v['code'][:12]} |")
+    if len(levels) >= 3:
+        hs = [h for h, _ in levels[-3:]]
+        for q in ("surface_MPa", "peak_MPa", "peak_depth_mm", "zero_depth_mm", "peak_yy_MPa"):
+            fs = [v[q] for _, v in levels[-3:]]
+            ext, p = richardson(hs, fs)
+            if ext is None:
+                print(f"- {q}: {', '.join(f'{f:.4g}' for f in fs)} at {', '.join(f'{h:g}' for h in hs)} um: "
+                      "not monotone or order outside [0.5, 4]: the finest value is the reference")
+            else:
+                print(f"- {q}: Richardson {ext:.4g} (order {p:.2f}); finest level {fs[-1]:.4g} "
+                      f"({100 * (fs[-1] / ext - 1):+.1f} %)")
 
 
 if __name__ == "__main__":

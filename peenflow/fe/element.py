@@ -200,6 +200,94 @@ def _physical_increments(p1x, p1y, p1z, p2x, p2y, p2z, p3x, p3y, p3z, p4x, p4y, 
     return d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z, d4x, d4y, d4z
 
 
+# ---- the element's algebra, shared by the vectorised rows and the reference element
+# (inlined at numba IR level, so both compile to the same arithmetic they had written out)
+
+
+@jit(inline="always")
+def _rotate(r11, r12, r13, r21, r22, r23, r31, r32, r33, x, y, z):
+    """``R (x, y, z)`` for the 3 x 3 matrix of rows ``r1, r2, r3``."""
+    return r11 * x + r12 * y + r13 * z, r21 * x + r22 * y + r23 * z, r31 * x + r32 * y + r33 * z
+
+
+@jit(inline="always")
+def _face_vectors(g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z):
+    """``c_k = g_l x g_m`` (cyclic; a quarter of the face-area vectors, m^2) and
+    ``det = g_1 . c_1`` (V / 8, m^3) of the covariant half-edge vectors ``g_k``."""
+    c1x = g2y * g3z - g2z * g3y
+    c1y = g2z * g3x - g2x * g3z
+    c1z = g2x * g3y - g2y * g3x
+    c2x = g3y * g1z - g3z * g1y
+    c2y = g3z * g1x - g3x * g1z
+    c2z = g3x * g1y - g3y * g1x
+    c3x = g1y * g2z - g1z * g2y
+    c3y = g1z * g2x - g1x * g2z
+    c3z = g1x * g2y - g1y * g2x
+    det = g1x * c1x + g1y * c1y + g1z * c1z
+    return c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, det
+
+
+@jit(inline="always")
+def _scaled9(s, a1, a2, a3, a4, a5, a6, a7, a8, a9):
+    """Nine values times ``s`` (the dual vectors ``g^k = c_k / det``; the 1/8 of the corner sums)."""
+    return a1 * s, a2 * s, a3 * s, a4 * s, a5 * s, a6 * s, a7 * s, a8 * s, a9 * s
+
+
+@jit(inline="always")
+def _rates(v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z):
+    """Velocity gradient ``L_ab = sum_k v^k_a g^k_b`` (1/s) of the mean corner-velocity
+    differences ``v_k`` and the dual vectors ``g^k``: returns its diagonal
+    ``lxx, lyy, lzz``, the strain rates ``dyz, dxz, dxy`` and spins ``wyz, wxz, wxy``."""
+    lxx = v1x * d1x + v2x * d2x + v3x * d3x
+    lxy = v1x * d1y + v2x * d2y + v3x * d3y
+    lxz = v1x * d1z + v2x * d2z + v3x * d3z
+    lyx = v1y * d1x + v2y * d2x + v3y * d3x
+    lyy = v1y * d1y + v2y * d2y + v3y * d3y
+    lyz = v1y * d1z + v2y * d2z + v3y * d3z
+    lzx = v1z * d1x + v2z * d2x + v3z * d3x
+    lzy = v1z * d1y + v2z * d2y + v3z * d3y
+    lzz = v1z * d1z + v2z * d2z + v3z * d3z
+    return (lxx, lyy, lzz, 0.5 * (lyz + lzy), 0.5 * (lxz + lzx), 0.5 * (lxy + lyx),
+            0.5 * (lyz - lzy), 0.5 * (lxz - lzx), 0.5 * (lxy - lyx))
+
+
+@jit(inline="always")
+def _dot3(ax, ay, az, bx, by, bz, s):
+    return (ax * bx + ay * by + az * bz) * s
+
+
+@jit(inline="always")
+def _hourglass_shape(s1x, s1y, s1z, s2x, s2y, s2z, s3x, s3y, s3z, s4x, s4y, s4z,
+                     d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z):
+    """``w_ak = (s_a . g^k) / 8`` of the Flanagan-Belytschko hourglass shape vectors
+    ``gamma_a = H_a - sum_k w_ak xi_k`` (``s_a = sum_I H_a,I x_I``), a = 1..4, k = 1..3."""
+    r8 = 0.125
+    return (_dot3(s1x, s1y, s1z, d1x, d1y, d1z, r8), _dot3(s1x, s1y, s1z, d2x, d2y, d2z, r8),
+            _dot3(s1x, s1y, s1z, d3x, d3y, d3z, r8), _dot3(s2x, s2y, s2z, d1x, d1y, d1z, r8),
+            _dot3(s2x, s2y, s2z, d2x, d2y, d2z, r8), _dot3(s2x, s2y, s2z, d3x, d3y, d3z, r8),
+            _dot3(s3x, s3y, s3z, d1x, d1y, d1z, r8), _dot3(s3x, s3y, s3z, d2x, d2y, d2z, r8),
+            _dot3(s3x, s3y, s3z, d3x, d3y, d3z, r8), _dot3(s4x, s4y, s4z, d1x, d1y, d1z, r8),
+            _dot3(s4x, s4y, s4z, d2x, d2y, d2z, r8), _dot3(s4x, s4y, s4z, d3x, d3y, d3z, r8))
+
+
+@jit(inline="always")
+def _tractions(s0, s1, s2, s3, s4, s5, qb, vol, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z):
+    """``t_k = V (sigma - q I) g^k / 8`` (N) of the stress ``s0..s5`` (Voigt, Pa), the bulk
+    viscosity pressure ``qb`` (Pa) and the volume ``vol`` (m^3)."""
+    r8 = 0.125
+    sxx = (s0 - qb) * vol
+    syy = (s1 - qb) * vol
+    szz = (s2 - qb) * vol
+    syz = s3 * vol
+    sxz = s4 * vol
+    sxy = s5 * vol
+    return (_dot3(sxx, sxy, sxz, d1x, d1y, d1z, r8), _dot3(sxy, syy, syz, d1x, d1y, d1z, r8),
+            _dot3(sxz, syz, szz, d1x, d1y, d1z, r8), _dot3(sxx, sxy, sxz, d2x, d2y, d2z, r8),
+            _dot3(sxy, syy, syz, d2x, d2y, d2z, r8), _dot3(sxz, syz, szz, d2x, d2y, d2z, r8),
+            _dot3(sxx, sxy, sxz, d3x, d3y, d3z, r8), _dot3(sxy, syy, syz, d3x, d3y, d3z, r8),
+            _dot3(sxz, syz, szz, d3x, d3y, d3z, r8))
+
+
 #: hourglass term of the stable step (x c^2 / l^2) the kernel's stability was measured with: 32 x 0.05
 HG_STEP_TERM = 1.6
 
@@ -410,65 +498,18 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             V1x, V2x, V3x, h1x, h2x, h3x, h4x = _corner_sums(w, _ND + 3 * _NDS, l)
             V1y, V2y, V3y, h1y, h2y, h3y, h4y = _corner_sums(w, _ND + 4 * _NDS, l)
             V1z, V2z, V3z, h1z, h2z, h3z, h4z = _corner_sums(w, _ND + 5 * _NDS, l)
-            g1x = gx1 * r8
-            g1y = gy1 * r8
-            g1z = gz1 * r8
-            g2x = gx2 * r8
-            g2y = gy2 * r8
-            g2z = gz2 * r8
-            g3x = gx3 * r8
-            g3y = gy3 * r8
-            g3z = gz3 * r8
-            v1x = V1x * r8
-            v1y = V1y * r8
-            v1z = V1z * r8
-            v2x = V2x * r8
-            v2y = V2y * r8
-            v2z = V2z * r8
-            v3x = V3x * r8
-            v3y = V3y * r8
-            v3z = V3z * r8
-            c1x = g2y * g3z - g2z * g3y
-            c1y = g2z * g3x - g2x * g3z
-            c1z = g2x * g3y - g2y * g3x
-            c2x = g3y * g1z - g3z * g1y
-            c2y = g3z * g1x - g3x * g1z
-            c2z = g3x * g1y - g3y * g1x
-            c3x = g1y * g2z - g1z * g2y
-            c3y = g1z * g2x - g1x * g2z
-            c3z = g1x * g2y - g1y * g2x
-            det = g1x * c1x + g1y * c1y + g1z * c1z
+            g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z = _scaled9(r8, gx1, gy1, gz1, gx2, gy2, gz2, gx3, gy3, gz3)
+            v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z = _scaled9(r8, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+            c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, det = _face_vectors(g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
             vol = 8.0 * det
             v0 = w[_L0 + _VOL0 * B + l]
             ratio = vol / v0
             stc = 0.0
             stc = float(ST_DISTORTION) if (ratio < 0.1) | (ratio > 10.0) else stc
             stc = stc if det > 0.0 else float(ST_NEGATIVE_VOLUME)
-            idet = 1.0 / det
-            d1x = c1x * idet
-            d1y = c1y * idet
-            d1z = c1z * idet
-            d2x = c2x * idet
-            d2y = c2y * idet
-            d2z = c2z * idet
-            d3x = c3x * idet
-            d3y = c3y * idet
-            d3z = c3z * idet
-            lxx = v1x * d1x + v2x * d2x + v3x * d3x
-            lxy = v1x * d1y + v2x * d2y + v3x * d3y
-            lxz = v1x * d1z + v2x * d2z + v3x * d3z
-            lyx = v1y * d1x + v2y * d2x + v3y * d3x
-            lyy = v1y * d1y + v2y * d2y + v3y * d3y
-            lyz = v1y * d1z + v2y * d2z + v3y * d3z
-            lzx = v1z * d1x + v2z * d2x + v3z * d3x
-            lzy = v1z * d1y + v2z * d2y + v3z * d3y
-            lzz = v1z * d1z + v2z * d2z + v3z * d3z
-            dyz = 0.5 * (lyz + lzy)
-            dxz = 0.5 * (lxz + lzx)
-            dxy = 0.5 * (lxy + lyx)
-            wyz = 0.5 * (lyz - lzy)
-            wxz = 0.5 * (lxz - lzx)
-            wxy = 0.5 * (lxy - lyx)
+            d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z = _scaled9(1.0 / det, c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z)
+            lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy = _rates(v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z,
+                                                                 d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
             t0, t1, t2, t3, t4, t5 = jaumann_trial(
                 w[_L0 + _OLD * B + l], w[_L0 + (_OLD + 1) * B + l], w[_L0 + (_OLD + 2) * B + l],
                 w[_L0 + (_OLD + 3) * B + l], w[_L0 + (_OLD + 4) * B + l], w[_L0 + (_OLD + 5) * B + l],
@@ -529,18 +570,8 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             w[_L0 + (_BK + 1) * B + l] = b2
             w[_L0 + (_BK + 2) * B + l] = b3
             # hourglass: w_ak = (s_a . g^k)/8, q_a = h_a - sum_k w_ak V_k
-            w11 = (s1x * d1x + s1y * d1y + s1z * d1z) * r8
-            w12 = (s1x * d2x + s1y * d2y + s1z * d2z) * r8
-            w13 = (s1x * d3x + s1y * d3y + s1z * d3z) * r8
-            w21 = (s2x * d1x + s2y * d1y + s2z * d1z) * r8
-            w22 = (s2x * d2x + s2y * d2y + s2z * d2z) * r8
-            w23 = (s2x * d3x + s2y * d3y + s2z * d3z) * r8
-            w31 = (s3x * d1x + s3y * d1y + s3z * d1z) * r8
-            w32 = (s3x * d2x + s3y * d2y + s3z * d2z) * r8
-            w33 = (s3x * d3x + s3y * d3y + s3z * d3z) * r8
-            w41 = (s4x * d1x + s4y * d1y + s4z * d1z) * r8
-            w42 = (s4x * d2x + s4y * d2y + s4z * d2z) * r8
-            w43 = (s4x * d3x + s4y * d3y + s4z * d3z) * r8
+            w11, w12, w13, w21, w22, w23, w31, w32, w33, w41, w42, w43 = _hourglass_shape(
+                s1x, s1y, s1z, s2x, s2y, s2z, s3x, s3y, s3z, s4x, s4y, s4z, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
             w[_L0 + _WAK * B + l] = w11
             w[_L0 + (_WAK + 1) * B + l] = w12
             w[_L0 + (_WAK + 2) * B + l] = w13
@@ -623,21 +654,8 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             d3y = w[_L0 + (_DUAL + 7) * B + l]
             d3z = w[_L0 + (_DUAL + 8) * B + l]
             # t_k = V (sigma - q I) g^k / 8
-            sxx = (n0_ - qb) * vol
-            syy = (n1_ - qb) * vol
-            szz = (n2_ - qb) * vol
-            syz = n3_ * vol
-            sxz = n4_ * vol
-            sxy = n5_ * vol
-            t1x = (sxx * d1x + sxy * d1y + sxz * d1z) * r8
-            t1y = (sxy * d1x + syy * d1y + syz * d1z) * r8
-            t1z = (sxz * d1x + syz * d1y + szz * d1z) * r8
-            t2x = (sxx * d2x + sxy * d2y + sxz * d2z) * r8
-            t2y = (sxy * d2x + syy * d2y + syz * d2z) * r8
-            t2z = (sxz * d2x + syz * d2y + szz * d2z) * r8
-            t3x = (sxx * d3x + sxy * d3y + sxz * d3z) * r8
-            t3y = (sxy * d3x + syy * d3y + syz * d3z) * r8
-            t3z = (sxz * d3x + syz * d3y + szz * d3z) * r8
+            t1x, t1y, t1z, t2x, t2y, t2z, t3x, t3y, t3z = _tractions(
+                n0_, n1_, n2_, n3_, n4_, n5_, qb, vol, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
             # hourglass forces. Stiffness form: F_a += k_hg q_a dt, k_hg following the
             # element's deviatoric tangent (not below the floor). Physical form:
             # rates to the element frame, increments from the assumed-strain
@@ -677,18 +695,10 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             g4x_ = w[_L0 + (_QA + 9) * B + l]
             g4y_ = w[_L0 + (_QA + 10) * B + l]
             g4z_ = w[_L0 + (_QA + 11) * B + l]
-            q1x = r11 * g1x_ + r12 * g1y_ + r13 * g1z_
-            q1y = r21 * g1x_ + r22 * g1y_ + r23 * g1z_
-            q1z = r31 * g1x_ + r32 * g1y_ + r33 * g1z_
-            q2x = r11 * g2x_ + r12 * g2y_ + r13 * g2z_
-            q2y = r21 * g2x_ + r22 * g2y_ + r23 * g2z_
-            q2z = r31 * g2x_ + r32 * g2y_ + r33 * g2z_
-            q3x = r11 * g3x_ + r12 * g3y_ + r13 * g3z_
-            q3y = r21 * g3x_ + r22 * g3y_ + r23 * g3z_
-            q3z = r31 * g3x_ + r32 * g3y_ + r33 * g3z_
-            q4x = r11 * g4x_ + r12 * g4y_ + r13 * g4z_
-            q4y = r21 * g4x_ + r22 * g4y_ + r23 * g4z_
-            q4z = r31 * g4x_ + r32 * g4y_ + r33 * g4z_
+            q1x, q1y, q1z = _rotate(r11, r12, r13, r21, r22, r23, r31, r32, r33, g1x_, g1y_, g1z_)
+            q2x, q2y, q2z = _rotate(r11, r12, r13, r21, r22, r23, r31, r32, r33, g2x_, g2y_, g2z_)
+            q3x, q3y, q3z = _rotate(r11, r12, r13, r21, r22, r23, r31, r32, r33, g3x_, g3y_, g3z_)
+            q4x, q4y, q4z = _rotate(r11, r12, r13, r21, r22, r23, r31, r32, r33, g4x_, g4y_, g4z_)
             k1x, k1y, k1z, k2x, k2y, k2z, k3x, k3y, k3z, k4x, k4y, k4z = _physical_increments(
                 q1x, q1y, q1z, q2x, q2y, q2z, q3x, q3y, q3z, q4x, q4y, q4z,
                 w[_L0 + _BK * B + l], w[_L0 + (_BK + 1) * B + l], w[_L0 + (_BK + 2) * B + l],
@@ -722,26 +732,10 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             w[_L0 + (_HG + 10) * B + l] = f4y
             w[_L0 + (_HG + 11) * B + l] = f4z
             # stored forces are in the element frame; the nodal forces need them global
-            t = f1x
-            u = f1y
-            f1x = r11 * t + r21 * u + r31 * f1z
-            f1y = r12 * t + r22 * u + r32 * f1z
-            f1z = r13 * t + r23 * u + r33 * f1z
-            t = f2x
-            u = f2y
-            f2x = r11 * t + r21 * u + r31 * f2z
-            f2y = r12 * t + r22 * u + r32 * f2z
-            f2z = r13 * t + r23 * u + r33 * f2z
-            t = f3x
-            u = f3y
-            f3x = r11 * t + r21 * u + r31 * f3z
-            f3y = r12 * t + r22 * u + r32 * f3z
-            f3z = r13 * t + r23 * u + r33 * f3z
-            t = f4x
-            u = f4y
-            f4x = r11 * t + r21 * u + r31 * f4z
-            f4y = r12 * t + r22 * u + r32 * f4z
-            f4z = r13 * t + r23 * u + r33 * f4z
+            f1x, f1y, f1z = _rotate(r11, r21, r31, r12, r22, r32, r13, r23, r33, f1x, f1y, f1z)
+            f2x, f2y, f2z = _rotate(r11, r21, r31, r12, r22, r32, r13, r23, r33, f2x, f2y, f2z)
+            f3x, f3y, f3z = _rotate(r11, r21, r31, r12, r22, r32, r13, r23, r33, f3x, f3y, f3z)
+            f4x, f4y, f4z = _rotate(r11, r21, r31, r12, r22, r32, r13, r23, r33, f4x, f4y, f4z)
             # nodal forces -(sum_k t_k grad-sign_k + sum_a F_a gamma_a) with
             # gamma_a = H_a - sum_k w_ak xi_k: collect the xi_k parts first
             w11 = w[_L0 + _WAK * B + l]
@@ -820,24 +814,17 @@ def _rows_pass(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, 
             res[colour, 1] = max(res[colour, 1], outs[r, 1])
             for c in range(2, 6):
                 res[colour, c] += outs[r, c]
-    dtmin = 1e30
-    status = 0
-    wi = 0.0
-    wp = 0.0
-    wh = 0.0
-    wv = 0.0
+    tot = np.zeros(6)  # over the colours in order: min step, max status, energy sums
+    tot[0] = 1e30
     for colour in range(4):
-        if res[colour, 0] < dtmin:
-            dtmin = res[colour, 0]
-        if res[colour, 1] > status:
-            status = int(res[colour, 1])
-        wi += res[colour, 2]
-        wp += res[colour, 3]
-        wh += res[colour, 4]
-        wv += res[colour, 5]
-    if status != 0:
-        dtmin = 0.0
-    return dtmin, status, wi, wp, wh, wv
+        if res[colour, 0] < tot[0]:
+            tot[0] = res[colour, 0]
+        if res[colour, 1] > tot[1]:
+            tot[1] = res[colour, 1]
+        for c in range(2, 6):
+            tot[c] += res[colour, c]
+    status = int(tot[1])
+    return (0.0 if status != 0 else tot[0]), status, tot[2], tot[3], tot[4], tot[5]
 
 
 element_rows, element_rows_parallel = jit_twins(_rows_pass)

@@ -19,16 +19,11 @@ from numba import prange
 
 from peenflow._jit import jit, jit_twins
 from peenflow.fe.element import (H1, H2, H3, H4, ST_DISTORTION, ST_NEGATIVE_VOLUME, ST_OK, SX, SY, SZ,
-                                 _element_frame, _physical_increments, hourglass_omega2_factor)
+                                 _element_frame, _face_vectors, _hourglass_shape, _physical_increments, _rates,
+                                 _rotate, _scaled9, _tractions, hourglass_omega2_factor)
 from peenflow.fe.johnson_cook import (HG_PHYSICAL, M_ADIABATIC, M_BULK_LIN, M_BULK_QUAD, M_HEAT, M_HG, M_HG_FLOOR,
                                       M_HG_TYPE, M_LAM, M_MU, M_RHO, static_flow_stress, stress_update,
                                       thermal_factor)
-
-
-@jit(inline="always")
-def _rotate(r11, r12, r13, r21, r22, r23, r31, r32, r33, x, y, z):
-    """``R (x, y, z)`` for the 3 x 3 matrix of rows ``r1, r2, r3``."""
-    return r11 * x + r12 * y + r13 * z, r21 * x + r22 * y + r23 * z, r31 * x + r32 * y + r33 * z
 
 
 @jit
@@ -106,68 +101,19 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
         h4y += a * vy
         h4z += a * vz
     r8 = 0.125
-    g1x *= r8
-    g1y *= r8
-    g1z *= r8
-    g2x *= r8
-    g2y *= r8
-    g2z *= r8
-    g3x *= r8
-    g3y *= r8
-    g3z *= r8
-    v1x *= r8
-    v1y *= r8
-    v1z *= r8
-    v2x *= r8
-    v2y *= r8
-    v2z *= r8
-    v3x *= r8
-    v3y *= r8
-    v3z *= r8
-    # cross products c_k (face area vectors / 4) and determinant
-    c1x = g2y * g3z - g2z * g3y
-    c1y = g2z * g3x - g2x * g3z
-    c1z = g2x * g3y - g2y * g3x
-    c2x = g3y * g1z - g3z * g1y
-    c2y = g3z * g1x - g3x * g1z
-    c2z = g3x * g1y - g3y * g1x
-    c3x = g1y * g2z - g1z * g2y
-    c3y = g1z * g2x - g1x * g2z
-    c3z = g1x * g2y - g1y * g2x
-    det = g1x * c1x + g1y * c1y + g1z * c1z
+    g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z = _scaled9(r8, g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
+    v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z = _scaled9(r8, v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z)
+    c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, det = _face_vectors(g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
     if not (det > 0.0):
         return 0.0, ST_NEGATIVE_VOLUME, 0.0, 0.0, 0.0, 0.0
     vol = 8.0 * det
     ratio = vol / vol0[e]
     if ratio < 0.1 or ratio > 10.0:
         return 0.0, ST_DISTORTION, 0.0, 0.0, 0.0, 0.0
-    idet = 1.0 / det
-    # dual vectors g^k
-    d1x = c1x * idet
-    d1y = c1y * idet
-    d1z = c1z * idet
-    d2x = c2x * idet
-    d2y = c2y * idet
-    d2z = c2z * idet
-    d3x = c3x * idet
-    d3y = c3y * idet
-    d3z = c3z * idet
-    # velocity gradient L_ab = sum_k vk_a g^k_b
-    lxx = v1x * d1x + v2x * d2x + v3x * d3x
-    lxy = v1x * d1y + v2x * d2y + v3x * d3y
-    lxz = v1x * d1z + v2x * d2z + v3x * d3z
-    lyx = v1y * d1x + v2y * d2x + v3y * d3x
-    lyy = v1y * d1y + v2y * d2y + v3y * d3y
-    lyz = v1y * d1z + v2y * d2z + v3y * d3z
-    lzx = v1z * d1x + v2z * d2x + v3z * d3x
-    lzy = v1z * d1y + v2z * d2y + v3z * d3y
-    lzz = v1z * d1z + v2z * d2z + v3z * d3z
-    dyz = 0.5 * (lyz + lzy)
-    dxz = 0.5 * (lxz + lzx)
-    dxy = 0.5 * (lxy + lyx)
-    wyz = 0.5 * (lyz - lzy)
-    wxz = 0.5 * (lxz - lzx)
-    wxy = 0.5 * (lxy - lyx)
+    # dual vectors g^k, velocity gradient and its parts
+    d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z = _scaled9(1.0 / det, c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z)
+    lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy = _rates(v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z,
+                                                         d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
     o0 = stress[e, 0]
     o1 = stress[e, 1]
     o2 = stress[e, 2]
@@ -230,34 +176,11 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
     om2 = om * om + hourglass_omega2_factor(mat) * c2 / (lch * lch)
     dt_e = 2.0 / math.sqrt(om2)
     # t_k = V (sigma - q I) g^k
-    sxx = (n0_ - qb) * vol
-    syy = (n1_ - qb) * vol
-    szz = (n2_ - qb) * vol
-    syz = n3_ * vol
-    sxz = n4_ * vol
-    sxy = n5_ * vol
-    t1x = (sxx * d1x + sxy * d1y + sxz * d1z) * r8
-    t1y = (sxy * d1x + syy * d1y + syz * d1z) * r8
-    t1z = (sxz * d1x + syz * d1y + szz * d1z) * r8
-    t2x = (sxx * d2x + sxy * d2y + sxz * d2z) * r8
-    t2y = (sxy * d2x + syy * d2y + syz * d2z) * r8
-    t2z = (sxz * d2x + syz * d2y + szz * d2z) * r8
-    t3x = (sxx * d3x + sxy * d3y + sxz * d3z) * r8
-    t3y = (sxy * d3x + syy * d3y + syz * d3z) * r8
-    t3z = (sxz * d3x + syz * d3y + szz * d3z) * r8
+    t1x, t1y, t1z, t2x, t2y, t2z, t3x, t3y, t3z = _tractions(
+        n0_, n1_, n2_, n3_, n4_, n5_, qb, vol, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
     # hourglass: w_ak = (s_a . g^k)/8, q_a = h_a - sum_k w_ak * 8 vk
-    w11 = (s1x * d1x + s1y * d1y + s1z * d1z) * r8
-    w12 = (s1x * d2x + s1y * d2y + s1z * d2z) * r8
-    w13 = (s1x * d3x + s1y * d3y + s1z * d3z) * r8
-    w21 = (s2x * d1x + s2y * d1y + s2z * d1z) * r8
-    w22 = (s2x * d2x + s2y * d2y + s2z * d2z) * r8
-    w23 = (s2x * d3x + s2y * d3y + s2z * d3z) * r8
-    w31 = (s3x * d1x + s3y * d1y + s3z * d1z) * r8
-    w32 = (s3x * d2x + s3y * d2y + s3z * d2z) * r8
-    w33 = (s3x * d3x + s3y * d3y + s3z * d3z) * r8
-    w41 = (s4x * d1x + s4y * d1y + s4z * d1z) * r8
-    w42 = (s4x * d2x + s4y * d2y + s4z * d2z) * r8
-    w43 = (s4x * d3x + s4y * d3y + s4z * d3z) * r8
+    w11, w12, w13, w21, w22, w23, w31, w32, w33, w41, w42, w43 = _hourglass_shape(
+        s1x, s1y, s1z, s2x, s2y, s2z, s3x, s3y, s3z, s4x, s4y, s4z, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
     q1x = h1x - 8.0 * (w11 * v1x + w12 * v2x + w13 * v3x)
     q1y = h1y - 8.0 * (w11 * v1y + w12 * v2y + w13 * v3y)
     q1z = h1z - 8.0 * (w11 * v1z + w12 * v2z + w13 * v3z)

@@ -84,6 +84,22 @@ N_INFO = 21
 N_REC = 19
 
 
+@jit(inline="always")
+def _advance_dof(v, x, f, n, a, c1, c2, im, force, dt, fixed):
+    """Velocity and position of dof ``(n, a)`` by the damped central difference
+    ``v+ = (c1 v- + im force) c2`` (``c1 = 1 - alpha dt/2``, ``c2 = 1 / (1 + alpha dt/2)``,
+    ``im = dt / m``; 0 where ``fixed``), then ``x += dt v+``; clears the force.
+    Returns ``(v-, v+)`` (m/s)."""
+    vo = v[n, a]
+    vn = (c1 * vo + im * force) * c2
+    if fixed:
+        vn = 0.0
+    v[n, a] = vn
+    x[n, a] += dt * vn
+    f[n, a] = 0.0
+    return vo, vn
+
+
 @jit
 def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold, dt, dt_avg, alpha,
                  sponge_w, sponge_a, bnodes, bk, bcd, bf0, bx0, bdash, periodic, lx, ly):
@@ -138,17 +154,11 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
         b = bc[n]
         s2 = 0.0
         for a in range(3):
-            vo = v[n, a]
             fb = bf0[q, a] - bk[q, a] * (x[n, a] - bx0[q, a])
             al = alpha + bdash * bcd[q, a] / mass[n]
             c1 = 1.0 - 0.5 * al * dt_avg
             c2 = 1.0 / (1.0 + 0.5 * al * dt_avg)
-            vn = (c1 * vo + im * (f[n, a] + fb)) * c2
-            if b & (1 << a):
-                vn = 0.0
-            v[n, a] = vn
-            x[n, a] += dt * vn
-            f[n, a] = 0.0
+            vo, vn = _advance_dof(v, x, f, n, a, c1, c2, im, f[n, a] + fb, dt, b & (1 << a))
             s2 += vn * vn
             vm = 0.5 * (vo + vn)
             # work on the exterior (spring + frozen reaction + dashpot) and by the mass damping
@@ -207,13 +217,7 @@ def _node_update(x, v, f, mass, bc, nnx, nny, ni0, ni1, nj0, nj1, nk0, nk1, hold
                 s2 = 0.0
                 sm = 0.0
                 for a in range(3):
-                    vo = v[n, a]
-                    vn = (c1 * vo + im * f[n, a]) * c2
-                    if b & (1 << a):
-                        vn = 0.0
-                    v[n, a] = vn
-                    x[n, a] += dt * vn
-                    f[n, a] = 0.0
+                    vo, vn = _advance_dof(v, x, f, n, a, c1, c2, im, f[n, a], dt, b & (1 << a))
                     s2 += vn * vn
                     vm = 0.5 * (vo + vn)
                     sm += vm * vm

@@ -44,12 +44,9 @@ _H = "meshes run so far: 6.25 um (convergence, BENCHMARKS.md 4) to 100 um (stabi
 _MAT = "engineering metals (a typo by a factor of 1000 lands outside)"
 
 BOUNDS: tuple[Bound, ...] = (
-    Bound("almen.velocities_m_s", 1.0, 400.0, "m/s", _V),
-    Bound("target.velocity_m_s", 1.0, 400.0, "m/s", _V),
-    Bound("dmin.strip_velocity_m_s", 1.0, 400.0, "m/s", _V),
-    Bound("almen.angles_deg", 45.0, 90.0, "deg", _A),
-    Bound("target.angle_deg", 45.0, 90.0, "deg", _A),
-    Bound("dmin.strip_angles_deg", 45.0, 90.0, "deg", _A),
+    *(Bound(key, 1.0, 400.0, "m/s", _V)
+      for key in ("almen.velocities_m_s", "target.velocity_m_s", "dmin.strip_velocity_m_s")),
+    *(Bound(key, 45.0, 90.0, "deg", _A) for key in ("almen.angles_deg", "target.angle_deg", "dmin.strip_angles_deg")),
     Bound("target.coverage_percent", 1.0, 1000.0, "%",
           "a 1000 % sequence finishes on the coarsest mesh (micro study, 100 um, 3 seeds); 10 000 % there ran "
           "away at 4100-5200 % (runaway energy, plastic strain near 10; BENCHMARKS.md 4b)"),
