@@ -120,6 +120,15 @@ H2 = (1.0, 1.0, -1.0, -1.0, -1.0, -1.0, 1.0, 1.0)  # eta zeta
 H3 = (1.0, -1.0, -1.0, 1.0, -1.0, 1.0, 1.0, -1.0)  # zeta xi
 H4 = (-1.0, 1.0, -1.0, 1.0, 1.0, -1.0, 1.0, -1.0)  # xi eta zeta
 
+
+@jit(inline="always")
+def corner_offsets(nnx, nnxy):
+    """Node-index offsets of an element's 8 corners from its first node, in the local
+    corner order of :data:`SX` ... :data:`H4` (counter-clockwise bottom face, then top);
+    ``nnx`` nodes per row, ``nnxy`` per layer."""
+    return (0, 1, 1 + nnx, nnx, nnxy, nnxy + 1, nnxy + 1 + nnx, nnxy + nnx)
+
+
 # status codes shared with the solver (see safety.py)
 ST_OK = 0
 ST_NEGATIVE_VOLUME = 2
@@ -268,6 +277,16 @@ def _hourglass_shape(s1x, s1y, s1z, s2x, s2y, s2z, s3x, s3y, s3z, s4x, s4y, s4z,
             _dot3(s3x, s3y, s3z, d1x, d1y, d1z, r8), _dot3(s3x, s3y, s3z, d2x, d2y, d2z, r8),
             _dot3(s3x, s3y, s3z, d3x, d3y, d3z, r8), _dot3(s4x, s4y, s4z, d1x, d1y, d1z, r8),
             _dot3(s4x, s4y, s4z, d2x, d2y, d2z, r8), _dot3(s4x, s4y, s4z, d3x, d3y, d3z, r8))
+
+
+@jit(inline="always")
+def _mode_rate(hx, hy, hz, wa1, wa2, wa3, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z):
+    """Hourglass rate ``q_a = sum_I gamma_a,I v_I = h_a - sum_k w_ak V_k`` (m/s) of one mode a
+    from its velocity sum ``h_a = sum_I H_a,I v_I``, its ``w_ak`` and ``V_k = sum_I sign_k,I v_I``
+    (= 8 v_k). (Per mode: a call of more than 30 arguments is compiled as ``f(*args)``,
+    which numba cannot inline.)"""
+    return (hx - (wa1 * V1x + wa2 * V2x + wa3 * V3x), hy - (wa1 * V1y + wa2 * V2y + wa3 * V3y),
+            hz - (wa1 * V1z + wa2 * V2z + wa3 * V3z))
 
 
 @jit(inline="always")
@@ -584,18 +603,12 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             w[_L0 + (_WAK + 9) * B + l] = w41
             w[_L0 + (_WAK + 10) * B + l] = w42
             w[_L0 + (_WAK + 11) * B + l] = w43
-            w[_L0 + _QA * B + l] = h1x - (w11 * V1x + w12 * V2x + w13 * V3x)
-            w[_L0 + (_QA + 1) * B + l] = h1y - (w11 * V1y + w12 * V2y + w13 * V3y)
-            w[_L0 + (_QA + 2) * B + l] = h1z - (w11 * V1z + w12 * V2z + w13 * V3z)
-            w[_L0 + (_QA + 3) * B + l] = h2x - (w21 * V1x + w22 * V2x + w23 * V3x)
-            w[_L0 + (_QA + 4) * B + l] = h2y - (w21 * V1y + w22 * V2y + w23 * V3y)
-            w[_L0 + (_QA + 5) * B + l] = h2z - (w21 * V1z + w22 * V2z + w23 * V3z)
-            w[_L0 + (_QA + 6) * B + l] = h3x - (w31 * V1x + w32 * V2x + w33 * V3x)
-            w[_L0 + (_QA + 7) * B + l] = h3y - (w31 * V1y + w32 * V2y + w33 * V3y)
-            w[_L0 + (_QA + 8) * B + l] = h3z - (w31 * V1z + w32 * V2z + w33 * V3z)
-            w[_L0 + (_QA + 9) * B + l] = h4x - (w41 * V1x + w42 * V2x + w43 * V3x)
-            w[_L0 + (_QA + 10) * B + l] = h4y - (w41 * V1y + w42 * V2y + w43 * V3y)
-            w[_L0 + (_QA + 11) * B + l] = h4z - (w41 * V1z + w42 * V2z + w43 * V3z)
+            qa = (_mode_rate(h1x, h1y, h1z, w11, w12, w13, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+                  + _mode_rate(h2x, h2y, h2z, w21, w22, w23, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+                  + _mode_rate(h3x, h3y, h3z, w31, w32, w33, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+                  + _mode_rate(h4x, h4y, h4z, w41, w42, w43, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z))
+            for c in range(12):
+                w[_L0 + (_QA + c) * B + l] = qa[c]
             gsum = (d1x * d1x + d1y * d1y + d1z * d1z + d2x * d2x + d2y * d2y + d2z * d2z
                     + d3x * d3x + d3y * d3y + d3z * d3z)
             w[_L0 + _KHG * B + l] = khgc * vol * gsum / 24.0 * dt

@@ -15,15 +15,36 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import prange
 
 from peenflow._jit import jit, jit_twins
 from peenflow.fe.element import (H1, H2, H3, H4, ST_DISTORTION, ST_NEGATIVE_VOLUME, ST_OK, SX, SY, SZ,
-                                 _element_frame, _face_vectors, _hourglass_shape, _physical_increments, _rates,
-                                 _rotate, _scaled9, _tractions, hourglass_omega2_factor)
+                                 _element_frame, _face_vectors, _mode_rate, _hourglass_shape,
+                                 _physical_increments, _rates,
+                                 _rotate, _scaled9, _tractions, corner_offsets, hourglass_omega2_factor)
 from peenflow.fe.johnson_cook import (HG_PHYSICAL, M_ADIABATIC, M_BULK_LIN, M_BULK_QUAD, M_HEAT, M_HG, M_HG_FLOOR,
                                       M_HG_TYPE, M_LAM, M_MU, M_RHO, static_flow_stress, stress_update,
                                       thermal_factor)
+
+
+#: the corner sign vectors: SX, SY, SZ (covariant sums), then the hourglass vectors H1 ... H4
+SIGNS = np.array((SX, SY, SZ, H1, H2, H3, H4))
+
+
+@jit(inline="always")
+def _rows9(a, scale):
+    """The first three rows of ``a`` (7, 3) times ``scale``, row by row."""
+    return (a[0, 0] * scale, a[0, 1] * scale, a[0, 2] * scale, a[1, 0] * scale, a[1, 1] * scale,
+            a[1, 2] * scale, a[2, 0] * scale, a[2, 1] * scale, a[2, 2] * scale)
+
+
+@jit(inline="always")
+def _modes12(a, first=3):
+    """Rows ``first ... first + 3`` of ``a`` (., 3), row by row: the four hourglass modes' vectors."""
+    m = first
+    return (a[m, 0], a[m, 1], a[m, 2], a[m + 1, 0], a[m + 1, 1], a[m + 1, 2],
+            a[m + 2, 0], a[m + 2, 1], a[m + 2, 2], a[m + 3, 0], a[m + 3, 1], a[m + 3, 2])
 
 
 @jit
@@ -34,75 +55,24 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
     (s, -, J, J, J, J).
     """
     hdt = 0.5 * dt
-    nd0 = n0
-    nd1 = n0 + 1
-    nd2 = n0 + 1 + nnx
-    nd3 = n0 + nnx
-    nodes = (nd0, nd1, nd2, nd3, nd0 + nnxy, nd1 + nnxy, nd2 + nnxy, nd3 + nnxy)
-    g1x = g1y = g1z = g2x = g2y = g2z = g3x = g3y = g3z = 0.0
-    v1x = v1y = v1z = v2x = v2y = v2z = v3x = v3y = v3z = 0.0
-    s1x = s1y = s1z = s2x = s2y = s2z = s3x = s3y = s3z = s4x = s4y = s4z = 0.0
-    h1x = h1y = h1z = h2x = h2y = h2z = h3x = h3y = h3z = h4x = h4y = h4z = 0.0
+    offs = corner_offsets(nnx, nnxy)
+    # corner sums per sign vector (rows of SIGNS) and component: mid-step positions, velocities
+    sp = np.zeros((7, 3))
+    sv = np.zeros((7, 3))
     for I in range(8):
-        n = nodes[I]
-        vx = v[n, 0]
-        vy = v[n, 1]
-        vz = v[n, 2]
-        px = x[n, 0] - hdt * vx
-        py = x[n, 1] - hdt * vy
-        pz = x[n, 2] - hdt * vz
-        a = SX[I]
-        b = SY[I]
-        c = SZ[I]
-        g1x += a * px
-        g1y += a * py
-        g1z += a * pz
-        g2x += b * px
-        g2y += b * py
-        g2z += b * pz
-        g3x += c * px
-        g3y += c * py
-        g3z += c * pz
-        v1x += a * vx
-        v1y += a * vy
-        v1z += a * vz
-        v2x += b * vx
-        v2y += b * vy
-        v2z += b * vz
-        v3x += c * vx
-        v3y += c * vy
-        v3z += c * vz
-        a = H1[I]
-        s1x += a * px
-        s1y += a * py
-        s1z += a * pz
-        h1x += a * vx
-        h1y += a * vy
-        h1z += a * vz
-        a = H2[I]
-        s2x += a * px
-        s2y += a * py
-        s2z += a * pz
-        h2x += a * vx
-        h2y += a * vy
-        h2z += a * vz
-        a = H3[I]
-        s3x += a * px
-        s3y += a * py
-        s3z += a * pz
-        h3x += a * vx
-        h3y += a * vy
-        h3z += a * vz
-        a = H4[I]
-        s4x += a * px
-        s4y += a * py
-        s4z += a * pz
-        h4x += a * vx
-        h4y += a * vy
-        h4z += a * vz
-    r8 = 0.125
-    g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z = _scaled9(r8, g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
-    v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z = _scaled9(r8, v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z)
+        n = n0 + offs[I]
+        for a in range(3):
+            va = v[n, a]
+            pa = x[n, a] - hdt * va
+            for m in range(7):
+                sp[m, a] += SIGNS[m, I] * pa
+                sv[m, a] += SIGNS[m, I] * va
+    # g_k = (1/8) sum_I sign_k,I x_I, v_k likewise (V_k = 8 v_k), hourglass sums s_a, h_a
+    g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z = _rows9(sp, 0.125)
+    v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z = _rows9(sv, 0.125)
+    V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z = _rows9(sv, 1.0)
+    s1x, s1y, s1z, s2x, s2y, s2z, s3x, s3y, s3z, s4x, s4y, s4z = _modes12(sp)
+    h1x, h1y, h1z, h2x, h2y, h2z, h3x, h3y, h3z, h4x, h4y, h4z = _modes12(sv)
     c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, det = _face_vectors(g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
     if not (det > 0.0):
         return 0.0, ST_NEGATIVE_VOLUME, 0.0, 0.0, 0.0, 0.0
@@ -181,18 +151,10 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
     # hourglass: w_ak = (s_a . g^k)/8, q_a = h_a - sum_k w_ak * 8 vk
     w11, w12, w13, w21, w22, w23, w31, w32, w33, w41, w42, w43 = _hourglass_shape(
         s1x, s1y, s1z, s2x, s2y, s2z, s3x, s3y, s3z, s4x, s4y, s4z, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
-    q1x = h1x - 8.0 * (w11 * v1x + w12 * v2x + w13 * v3x)
-    q1y = h1y - 8.0 * (w11 * v1y + w12 * v2y + w13 * v3y)
-    q1z = h1z - 8.0 * (w11 * v1z + w12 * v2z + w13 * v3z)
-    q2x = h2x - 8.0 * (w21 * v1x + w22 * v2x + w23 * v3x)
-    q2y = h2y - 8.0 * (w21 * v1y + w22 * v2y + w23 * v3y)
-    q2z = h2z - 8.0 * (w21 * v1z + w22 * v2z + w23 * v3z)
-    q3x = h3x - 8.0 * (w31 * v1x + w32 * v2x + w33 * v3x)
-    q3y = h3y - 8.0 * (w31 * v1y + w32 * v2y + w33 * v3y)
-    q3z = h3z - 8.0 * (w31 * v1z + w32 * v2z + w33 * v3z)
-    q4x = h4x - 8.0 * (w41 * v1x + w42 * v2x + w43 * v3x)
-    q4y = h4y - 8.0 * (w41 * v1y + w42 * v2y + w43 * v3y)
-    q4z = h4z - 8.0 * (w41 * v1z + w42 * v2z + w43 * v3z)
+    q1x, q1y, q1z = _mode_rate(h1x, h1y, h1z, w11, w12, w13, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+    q2x, q2y, q2z = _mode_rate(h2x, h2y, h2z, w21, w22, w23, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+    q3x, q3y, q3z = _mode_rate(h3x, h3y, h3z, w31, w32, w33, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+    q4x, q4y, q4z = _mode_rate(h4x, h4y, h4z, w41, w42, w43, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
     o = hg[e]
     physical = mat[M_HG_TYPE] == HG_PHYSICAL
     if physical:
@@ -222,50 +184,20 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
         if gr < mat[M_HG_FLOOR]:
             gr = mat[M_HG_FLOOR]
         khg = qhg * mod * vol * gsum / 24.0 * dt * gr
-        k1x = khg * q1x
-        k1y = khg * q1y
-        k1z = khg * q1z
-        k2x = khg * q2x
-        k2y = khg * q2y
-        k2z = khg * q2z
-        k3x = khg * q3x
-        k3y = khg * q3y
-        k3z = khg * q3z
-        k4x = khg * q4x
-        k4y = khg * q4y
-        k4z = khg * q4z
+        k1x, k1y, k1z, k2x, k2y, k2z, k3x, k3y, k3z, k4x, k4y, k4z = (
+            khg * q1x, khg * q1y, khg * q1z, khg * q2x, khg * q2y, khg * q2z,
+            khg * q3x, khg * q3y, khg * q3z, khg * q4x, khg * q4y, khg * q4z)
     # stored forces (element frame for the physical form, global axes for the
     # stiffness form) grow by the increments; work at mid-step force
-    l1x = o[0] + k1x
-    l1y = o[1] + k1y
-    l1z = o[2] + k1z
-    l2x = o[3] + k2x
-    l2y = o[4] + k2y
-    l2z = o[5] + k2z
-    l3x = o[6] + k3x
-    l3y = o[7] + k3y
-    l3z = o[8] + k3z
-    l4x = o[9] + k4x
-    l4y = o[10] + k4y
-    l4z = o[11] + k4z
-    dw_hg = 0.5 * dt * (
-        (o[0] + l1x) * p1x + (o[1] + l1y) * p1y + (o[2] + l1z) * p1z
-        + (o[3] + l2x) * p2x + (o[4] + l2y) * p2y + (o[5] + l2z) * p2z
-        + (o[6] + l3x) * p3x + (o[7] + l3y) * p3y + (o[8] + l3z) * p3z
-        + (o[9] + l4x) * p4x + (o[10] + l4y) * p4y + (o[11] + l4z) * p4z
-    )
-    o[0] = l1x
-    o[1] = l1y
-    o[2] = l1z
-    o[3] = l2x
-    o[4] = l2y
-    o[5] = l2z
-    o[6] = l3x
-    o[7] = l3y
-    o[8] = l3z
-    o[9] = l4x
-    o[10] = l4y
-    o[11] = l4z
+    inc = (k1x, k1y, k1z, k2x, k2y, k2z, k3x, k3y, k3z, k4x, k4y, k4z)
+    rates = (p1x, p1y, p1z, p2x, p2y, p2z, p3x, p3y, p3z, p4x, p4y, p4z)
+    work = 0.0
+    for c in range(12):
+        grown = o[c] + inc[c]
+        work += (o[c] + grown) * rates[c]
+        o[c] = grown
+    dw_hg = 0.5 * dt * work
+    l1x, l1y, l1z, l2x, l2y, l2z, l3x, l3y, l3z, l4x, l4y, l4z = _modes12(o.reshape((4, 3)), 0)
     if physical:
         # back to global axes (the frame's transpose)
         f1x, f1y, f1z = _rotate(e11, e21, e31, e12, e22, e32, e13, e23, e33, l1x, l1y, l1z)
@@ -276,7 +208,7 @@ def element_update(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, hg, temp
         f1x, f1y, f1z, f2x, f2y, f2z, f3x, f3y, f3z, f4x, f4y, f4z = (
             l1x, l1y, l1z, l2x, l2y, l2z, l3x, l3y, l3z, l4x, l4y, l4z)
     for I in range(8):
-        n = nodes[I]
+        n = n0 + offs[I]
         a = SX[I]
         b = SY[I]
         c = SZ[I]

@@ -66,7 +66,7 @@ import numpy as np
 
 from peenflow._jit import jit
 from peenflow.fe.boundary import TIED, tied_master
-from peenflow.fe.element import element_rows
+from peenflow.fe.element import corner_offsets, element_rows
 
 COARSEST_NODES = 600
 CHEB_DEGREE = 2
