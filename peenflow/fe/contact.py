@@ -130,12 +130,8 @@ def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, n
     max_ov = 0.0
     idt = 1.0 / dt
     for it in range(8):
-        px = 0.0
-        py = 0.0
-        pz = 0.0
-        cx = shot[0]
-        cy = shot[1]
-        cz = shot[2]
+        px = py = pz = 0.0
+        cx, cy, cz = shot[0], shot[1], shot[2]
         for a in range(nc):
             n = cand[a]
             dx = x[n, 0] - cx
@@ -178,15 +174,9 @@ def contact_kinematic(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, n
     max_rad = 0.0
     sj = 0.0
     sjr2 = 0.0
-    cx = shot[0]
-    cy = shot[1]
-    cz = shot[2]
-    fpx = 0.0
-    fpy = 0.0
-    fpz = 0.0
-    lx = 0.0
-    ly = 0.0
-    lz = 0.0
+    cx, cy, cz = shot[0], shot[1], shot[2]
+    fpx = fpy = fpz = 0.0
+    lx = ly = lz = 0.0
     for a in range(nc):
         if dn[a, 3] == 0.0:
             continue

@@ -250,11 +250,10 @@ def _interp(fine: np.ndarray, coarse: np.ndarray):
 @jit
 def apply_k(u, out, ke, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
     """``out = K u`` (N) for the box-element grid; zero at fixed dofs (``bc`` bits)."""
-    nnxy = nnx * nny
+    offs = corner_offsets(nnx, nnx * nny)
     out[:, :] = 0.0
-    ul = np.empty(24)
+    ul = np.empty(24)  # the element's 24 dofs, corner by corner
     fl = np.empty(24)
-    offs = (0, 1, 1 + nnx, nnx, nnxy, nnxy + 1, nnxy + 1 + nnx, nnxy + nnx)
     for k in range(nz):
         for j in range(ny):
             for i in range(nx):
@@ -398,13 +397,12 @@ def _butterflies_t(w):
 def apply_k_modal(u, out, rows, cols, vals, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
     """``out = K u`` (N) like :func:`apply_k`, with each element's matrix in modal form
     (``rows, cols, vals`` from :func:`modal_blocks`)."""
-    nnxy = nnx * nny
-    out[:, :] = 0.0
-    w = np.empty(8)
-    xm = np.empty(21)
-    ym = np.empty(21)
+    offs = corner_offsets(nnx, nnx * nny)
     nnz = len(rows)
-    offs = (0, 1, 1 + nnx, nnx, nnxy, nnxy + 1, nnxy + 1 + nnx, nnxy + nnx)
+    out[:, :] = 0.0
+    w = np.empty(8)  # one component's 8 corner values, lexicographic
+    xm = np.empty(21)  # modal amplitudes in, out
+    ym = np.empty(21)
     for k in range(nz):
         for j in range(ny):
             for i in range(nx):

@@ -186,15 +186,8 @@ def _recorded(overlaps: Callable[[float], bool], max_evaluations: int, what: str
     return ev, evals
 
 
-def find_dmin(
-    overlaps: Callable[[float], bool],
-    lower: float,
-    upper: float,
-    resolution: float,
-    *,
-    floor: float = 0.0,
-    max_evaluations: int = 60,
-) -> DminSearch:
+def find_dmin(overlaps: Callable[[float], bool], lower: float, upper: float, resolution: float, *,
+              floor: float = 0.0, max_evaluations: int = 60) -> DminSearch:
     """Bracket and bisect the overlap predicate for d_min.
 
     overlaps : d (m) -> True if two impacts at centre distance d have overlapping
@@ -239,16 +232,8 @@ def find_dmin(
     return DminSearch(float(upper), float(lower), float(upper), float(resolution), tuple(evals))
 
 
-def scan_dmin(
-    overlaps: Callable[[float], bool],
-    lower: float,
-    upper: float,
-    resolution: float,
-    *,
-    floor: float = 0.0,
-    ceiling: float = float("inf"),
-    max_evaluations: int = 200,
-) -> DminSearch:
+def scan_dmin(overlaps: Callable[[float], bool], lower: float, upper: float, resolution: float, *,
+              floor: float = 0.0, ceiling: float = float("inf"), max_evaluations: int = 200) -> DminSearch:
     """The paper's linear scan for d_min in steps of ``resolution`` (m).
 
     Starts at ``lower`` (m, e.g. from :func:`bracket_from_radius`; ``upper`` is
