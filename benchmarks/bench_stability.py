@@ -31,16 +31,13 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(__file__))
 from bench_kernel import R, SAE1070, loadavg  # noqa: E402
 
-from peenflow.fe import solver as S  # noqa: E402
 from peenflow.fe.impact import Options, run_impacts  # noqa: E402
 from peenflow.fe.johnson_cook import Material  # noqa: E402
 from peenflow.fe.mesh import graded_box  # noqa: E402
 from peenflow.fe.model import Target  # noqa: E402
-from peenflow.fe.safety import KernelInstabilityError  # noqa: E402
+from peenflow.fe.safety import KernelInstabilityError, status_label  # noqa: E402
 from peenflow.fe.shots import Shots  # noqa: E402
 
-STATUS = {S.ST_NEGATIVE_VOLUME: "negative volume", S.ST_DISTORTION: "distortion", S.ST_NAN: "NaN/Inf",
-          S.ST_DT_COLLAPSE: "step collapse", S.ST_RUNAWAY: "runaway energy", S.ST_MAX_STEPS: "step budget"}
 
 
 def one(speed, h, dt_safety, hourglass, mat):
@@ -51,7 +48,7 @@ def one(speed, h, dt_safety, hourglass, mat):
     try:
         res = run_impacts(t, mat, shots, Options(dt_safety=dt_safety, hourglass=hourglass))
     except KernelInstabilityError as err:
-        return dict(ok=False, status=STATUS.get(err.status, str(err.status)), wall=time.perf_counter() - t0)
+        return dict(ok=False, status=status_label(err.status), wall=time.perf_counter() - t0)
     nnx, nny, _ = t.mesh.shape_nodes
     return dict(ok=True, err=res.energy_error, dent=res.displacement[: nnx * nny, 2].max(),
                 e=res.shots["restitution"][0], hg=res.hourglass_ratio, wall=time.perf_counter() - t0)
@@ -84,7 +81,7 @@ def dense(n_full: int = 59) -> None:
                 print(f"| {pct} | {n} | {seed} | finished | {e.max():.4f} | {e.mean():.4f} | "
                       f"{ds.hourglass_peak.values.max():.2f} | {time.perf_counter() - t0:.0f} |", flush=True)
             except KIE as err:
-                print(f"| {pct} | {n} | {seed} | stopped at shot {err.shot_index}: {STATUS.get(err.status)} | | | | "
+                print(f"| {pct} | {n} | {seed} | stopped at shot {err.shot_index}: {status_label(err.status)} | | | | "
                       f"{time.perf_counter() - t0:.0f} |", flush=True)
 
 

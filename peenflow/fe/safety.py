@@ -59,6 +59,11 @@ _MESSAGES = {
 }
 
 
+
+def status_label(status: int) -> str:
+    """What a kernel status code means, in a few words (``"an element turned inside out ..."``)."""
+    return _MESSAGES[status][0] if status in _MESSAGES else f"status {status}"
+
 def check_status(status: int, *, where: str, shot_index=None, time: float = float("nan")) -> None:
     """Raise :class:`KernelInstabilityError` if ``status`` is not OK."""
     status = int(status)

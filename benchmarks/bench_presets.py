@@ -1,0 +1,165 @@
+"""Issue 10 §2: each element size's study-level error against the converged references, and its cost
+(prints its figures and writes a Pareto plot; not a test).
+
+Usage (from the repository root)::
+
+    PYTHONPATH=. python benchmarks/bench_presets.py [PLOT.png]
+
+Reads ``benchmarks/reference/study_level.json`` (written by
+``benchmarks/bench_reference.py run``; every level there varies only the element
+size of the standard preset's settings, with paired shot streams). For every
+element size that all points were run at, it gives the error of what a user reads
+off a study:
+
+- **Almen intensity** (eq. 11) of the strip points ``strip_90_55``, ``strip_67_25``,
+  ``strip_67_30``, ``strip_67_35``, against each point's reference (Richardson on
+  the three finest levels where they converge monotonically with an order in
+  [0.5, 4], else the finest level: ``bench_reference.richardson``);
+- **velocity for 12A** (0.30 mm, type A) on the 67.5 deg control curve through the
+  25 / 30 / 35 m/s points (PCHIP, as the ``target_velocity`` stage inverts it),
+  against the same inversion of the reference intensities;
+- for the §5 target ``al7075_30`` (Al 7075-T73, 65 deg, 30 m/s, 200 %): **N_f**
+  (shots for 98 % coverage, from the level's own dent), the **profile's peak**
+  sigma_xx, its depth and the zero crossing, and the **profile RMS** (mean
+  sigma_xx(z) minus the reference's, over 0-0.3 mm, in % of the reference peak),
+  against the finest level (or Richardson, as above, for the scalars);
+- **cost**: the process CPU seconds of the level summed over the points (one
+  core each; the study's own cost scales with it).
+
+The error of a preset is that of its element size (``coarse`` 60 um, ``standard``
+40 um, ``paper`` 25 um): the presets' other settings (window, grading) were
+measured separately at the single-impact level (BENCHMARKS.md §4c, §2).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from bench_reference import OUT, richardson  # noqa: E402
+
+STRIP_POINTS = ("strip_90_55", "strip_67_25", "strip_67_30", "strip_67_35")
+CURVE = {25.0: "strip_67_25", 30.0: "strip_67_30", 35.0: "strip_67_35"}  # the 67.5 deg control curve
+TARGET = "al7075_30"
+INTENSITY_12A_MM = 0.30
+RMS_DEPTH_MM = 0.3
+PRESET_OF = {60.0: "coarse", 40.0: "standard", 25.0: "paper"}
+
+
+def _levels(data: dict, point: str) -> dict[float, dict]:
+    return {float(k.split("/")[1]): v for k, v in data.items()
+            if k.startswith(point + "/") and "@" not in k.split("/")[1]}
+
+
+def _reference(levels: dict[float, float]) -> float:
+    """Richardson on the three finest levels if clean, else the finest value."""
+    hs = sorted(levels, reverse=True)[-3:]
+    fs = [levels[h] for h in hs]
+    ext, _ = richardson(hs, fs) if len(hs) == 3 else (None, None)
+    return fs[-1] if ext is None else ext
+
+
+def velocity_12a(intensity_by_velocity: dict[float, float]) -> float:
+    """m/s for 12A on the curve through ``{velocity m/s: intensity mm}`` (PCHIP inverse, no extrapolation)."""
+    from peenflow.methods.control_curve import ControlCurve
+
+    v = np.array(sorted(intensity_by_velocity))
+    curve = ControlCurve(67.5, v, np.array([intensity_by_velocity[x] for x in v]) * 1e-3)
+    return float(curve.velocity(INTENSITY_12A_MM * 1e-3))
+
+
+def _profile_rms(level: dict, ref: dict) -> float:
+    z = np.asarray(ref["z_mm"])
+    keep = z <= RMS_DEPTH_MM
+    mine = np.interp(z[keep], level["z_mm"], level["sxx_MPa"])
+    return float(100.0 * np.sqrt(np.mean((mine - np.asarray(ref["sxx_MPa"])[keep]) ** 2)) / abs(ref["peak_MPa"]))
+
+
+def study_level_errors(data: dict | None = None) -> dict[float, dict]:
+    """{element size um: {quantity: error}} for every size all points were run at (module docstring):
+    ``intensity_pct`` (min, max) over the strip points, ``velocity_12a_pct``, ``n_f_pct``,
+    ``peak_pct``, ``peak_depth_mm`` (difference), ``zero_depth_pct``, ``profile_rms_pct``, ``cpu_s``,
+    and the references themselves under ``"reference"``."""
+    data = json.loads(OUT.read_text()) if data is None else data
+    strips = {p: _levels(data, p) for p in STRIP_POINTS}
+    target = _levels(data, TARGET)
+    sizes = sorted(set.intersection(*(set(v) for v in strips.values()), set(target)), reverse=True)
+    ref_i = {p: _reference({h: v["intensity_mm"] for h, v in lv.items()}) for p, lv in strips.items()}
+    ref_v = velocity_12a({vel: ref_i[p] for vel, p in CURVE.items()})
+    finest = target[min(target)]
+    ref_t = {q: _reference({h: v[q] for h, v in target.items()})
+             for q in ("full_coverage_shots", "peak_MPa", "zero_depth_mm")}
+    out: dict = {"reference": {"intensity_mm": ref_i, "velocity_12a_m_s": ref_v, **ref_t,
+                               "peak_depth_mm": finest["peak_depth_mm"]}}
+    for h in sizes:
+        if h == min(target):
+            continue  # the finest level is (part of) the reference
+        ierr = [100.0 * (strips[p][h]["intensity_mm"] / ref_i[p] - 1.0) for p in STRIP_POINTS]
+        t = target[h]
+        out[h] = {
+            "intensity_pct": (min(ierr), max(ierr)),
+            "velocity_12a_pct": 100.0 * (velocity_12a({vel: strips[p][h]["intensity_mm"]
+                                                        for vel, p in CURVE.items()}) / ref_v - 1.0),
+            "n_f_pct": 100.0 * (t["full_coverage_shots"] / ref_t["full_coverage_shots"] - 1.0),
+            "peak_pct": 100.0 * (t["peak_MPa"] / ref_t["peak_MPa"] - 1.0),
+            "peak_depth_mm": t["peak_depth_mm"] - finest["peak_depth_mm"],
+            "zero_depth_pct": 100.0 * (t["zero_depth_mm"] / ref_t["zero_depth_mm"] - 1.0),
+            "profile_rms_pct": _profile_rms(t, finest),
+            "cpu_s": sum(strips[p][h]["cpu_s"] for p in STRIP_POINTS) + t["cpu_s"],
+        }
+    return out
+
+
+def worst_pct(row: dict) -> float:
+    """The largest |error| in % over intensity, 12A velocity and the profile (peak, zero crossing, RMS)."""
+    return max(abs(row["intensity_pct"][0]), abs(row["intensity_pct"][1]), abs(row["velocity_12a_pct"]),
+               abs(row["peak_pct"]), abs(row["zero_depth_pct"]), row["profile_rms_pct"])
+
+
+def main(plot: str | None) -> None:
+    errors = study_level_errors()
+    ref = errors.pop("reference")
+    print("references: intensity " + ", ".join(f"{p} {v:.4f} mm" for p, v in ref["intensity_mm"].items())
+          + f"; 12A at 67.5 deg {ref['velocity_12a_m_s']:.2f} m/s; {TARGET}: N_f {ref['full_coverage_shots']:.0f}, "
+          f"peak {ref['peak_MPa']:.0f} MPa at {ref['peak_depth_mm']:.3f} mm, zero crossing {ref['zero_depth_mm']:.3f} mm")
+    print("\n| h um | preset | intensity % | 12A velocity % | N_f % | peak σxx % | peak depth mm | zero crossing % | "
+          "profile RMS % | worst % | CPU s |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for h, r in errors.items():
+        print(f"| {h:g} | {PRESET_OF.get(h, '-')} | {r['intensity_pct'][0]:+.1f} ... {r['intensity_pct'][1]:+.1f} | "
+              f"{r['velocity_12a_pct']:+.1f} | {r['n_f_pct']:+.1f} | {r['peak_pct']:+.1f} | {r['peak_depth_mm']:+.3f} | "
+              f"{r['zero_depth_pct']:+.1f} | {r['profile_rms_pct']:.1f} | {worst_pct(r):.1f} | {r['cpu_s']:.0f} |")
+    if plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6, 4.2))
+        hs = list(errors)
+        for key, label, mk in (("worst", "worst of all", "o"), ("velocity_12a_pct", "12A velocity", "s"),
+                               ("intensity", "intensity (worst point)", "^"), ("profile_rms_pct", "profile RMS", "v")):
+            ys = [worst_pct(errors[h]) if key == "worst" else
+                  max(map(abs, errors[h]["intensity_pct"])) if key == "intensity" else abs(errors[h][key]) for h in hs]
+            ax.plot([errors[h]["cpu_s"] for h in hs], ys, marker=mk, label=label)
+        for h in hs:
+            ax.annotate(f"{h:g} um ({PRESET_OF.get(h, '-')})", (errors[h]["cpu_s"], worst_pct(errors[h])),
+                        textcoords="offset points", xytext=(4, 4), fontsize=8)
+        ax.axhline(5.0, color="grey", lw=0.8, ls="--")
+        ax.set_xscale("log")
+        ax.set_xlabel("CPU s for the five reference points (one core each)")
+        ax.set_ylabel("|error| against the converged reference, %")
+        ax.set_title("Study-level error against cost, per element size")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(plot, dpi=120)
+        print(f"wrote {plot}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1] if len(sys.argv) > 1 else None)
