@@ -56,11 +56,19 @@ def _levels(data: dict, point: str) -> dict[float, dict]:
             if k.startswith(point + "/") and "@" not in k.split("/")[1]}
 
 
+#: Richardson only from levels down to this size: from 60 / 40 / 25 um alone the strip intensities
+#: extrapolated 1-8 % too high (pre-asymptotic; BENCHMARKS.md §9), so coarser triples give no limit
+RICHARDSON_FINEST_UM = 16.0
+
+
 def _reference(levels: dict[float, float]) -> float:
-    """Richardson on the three finest levels if clean, else the finest value."""
+    """Richardson on the three finest levels if clean and the finest is at most
+    :data:`RICHARDSON_FINEST_UM`, else the finest value."""
     hs = sorted(levels, reverse=True)[-3:]
     fs = [levels[h] for h in hs]
-    ext, _ = richardson(hs, fs) if len(hs) == 3 else (None, None)
+    ext = None
+    if len(hs) == 3 and hs[-1] <= RICHARDSON_FINEST_UM + 1e-9:
+        ext, _ = richardson(hs, fs)
     return fs[-1] if ext is None else ext
 
 
@@ -88,37 +96,68 @@ def study_level_errors(data: dict | None = None) -> dict[float, dict]:
     data = json.loads(OUT.read_text()) if data is None else data
     strips = {p: _levels(data, p) for p in STRIP_POINTS}
     target = _levels(data, TARGET)
-    sizes = sorted(set.intersection(*(set(v) for v in strips.values()), set(target)), reverse=True)
+    sizes = sorted(set.intersection(*(set(v) for v in strips.values())), reverse=True)
     ref_i = {p: _reference({h: v["intensity_mm"] for h, v in lv.items()}) for p, lv in strips.items()}
     ref_v = velocity_12a({vel: ref_i[p] for vel, p in CURVE.items()})
     finest = target[min(target)]
     ref_t = {q: _reference({h: v[q] for h, v in target.items()})
              for q in ("full_coverage_shots", "peak_MPa", "zero_depth_mm")}
     out: dict = {"reference": {"intensity_mm": ref_i, "velocity_12a_m_s": ref_v, **ref_t,
-                               "peak_depth_mm": finest["peak_depth_mm"]}}
-    for h in sizes:
-        if h == min(target):
-            continue  # the finest level is (part of) the reference
+                               "peak_depth_mm": finest["peak_depth_mm"], "strip_finest_um": min(sizes),
+                               "target_finest_um": min(target)}}
+    for h in sizes[:-1]:  # the finest level is (part of) the reference
         ierr = [100.0 * (strips[p][h]["intensity_mm"] / ref_i[p] - 1.0) for p in STRIP_POINTS]
-        t = target[h]
-        out[h] = {
+        row = {
             "intensity_pct": (min(ierr), max(ierr)),
             "velocity_12a_pct": 100.0 * (velocity_12a({vel: strips[p][h]["intensity_mm"]
                                                         for vel, p in CURVE.items()}) / ref_v - 1.0),
-            "n_f_pct": 100.0 * (t["full_coverage_shots"] / ref_t["full_coverage_shots"] - 1.0),
-            "peak_pct": 100.0 * (t["peak_MPa"] / ref_t["peak_MPa"] - 1.0),
-            "peak_depth_mm": t["peak_depth_mm"] - finest["peak_depth_mm"],
-            "zero_depth_pct": 100.0 * (t["zero_depth_mm"] / ref_t["zero_depth_mm"] - 1.0),
-            "profile_rms_pct": _profile_rms(t, finest),
-            "cpu_s": sum(strips[p][h]["cpu_s"] for p in STRIP_POINTS) + t["cpu_s"],
+            "cpu_s": sum(strips[p][h]["cpu_s"] for p in STRIP_POINTS) + target.get(h, {}).get("cpu_s", 0.0),
         }
+        t = target.get(h)
+        if t is not None and h > min(target):
+            row.update({
+                "n_f_pct": 100.0 * (t["full_coverage_shots"] / ref_t["full_coverage_shots"] - 1.0),
+                "peak_pct": 100.0 * (t["peak_MPa"] / ref_t["peak_MPa"] - 1.0),
+                "peak_depth_mm": t["peak_depth_mm"] - finest["peak_depth_mm"],
+                "zero_depth_pct": 100.0 * (t["zero_depth_mm"] / ref_t["zero_depth_mm"] - 1.0),
+                "profile_rms_pct": _profile_rms(t, finest),
+            })
+        out[h] = row
+    out["extrapolated"] = _two_level(strips, ref_i, ref_v)
     return out
 
 
+def _two_level(strips: dict, ref_i: dict, ref_v: float, coarse: float = 40.0, fine: float = 25.0) -> dict:
+    """Errors of the two-level extrapolation ``I = I_f + (I_f - I_c) h_f^p / (h_c^p - h_f^p)`` from the
+    ``coarse`` and ``fine`` levels (the same shot streams: paired), with each point's order ``p`` the
+    mean of the Richardson orders (40 / 25 / 16 um) of the *other* points (leave one out: no point
+    is extrapolated with its own reference's order). Cost: both levels."""
+    orders = {}
+    for p, lv in strips.items():
+        hs = [40.0, 25.0, 16.0]
+        if all(h in lv for h in hs):
+            _, order = richardson(hs, [lv[h]["intensity_mm"] for h in hs])
+            if order is not None:
+                orders[p] = order
+    ext, used = {}, {}
+    for p, lv in strips.items():
+        others = [o for q, o in orders.items() if q != p]
+        if not others or coarse not in lv or fine not in lv:
+            return {}
+        k = used[p] = float(np.mean(others))
+        ic, if_ = lv[coarse]["intensity_mm"], lv[fine]["intensity_mm"]
+        ext[p] = if_ + (if_ - ic) * fine**k / (coarse**k - fine**k)
+    ierr = [100.0 * (ext[p] / ref_i[p] - 1.0) for p in STRIP_POINTS]
+    return {"intensity_pct": (min(ierr), max(ierr)),
+            "velocity_12a_pct": 100.0 * (velocity_12a({v: ext[p] for v, p in CURVE.items()}) / ref_v - 1.0),
+            "cpu_s": sum(strips[p][h]["cpu_s"] for p in STRIP_POINTS for h in (coarse, fine)),
+            "orders": used, "levels_um": (coarse, fine)}
+
+
 def worst_pct(row: dict) -> float:
-    """The largest |error| in % over intensity, 12A velocity and the profile (peak, zero crossing, RMS)."""
-    return max(abs(row["intensity_pct"][0]), abs(row["intensity_pct"][1]), abs(row["velocity_12a_pct"]),
-               abs(row["peak_pct"]), abs(row["zero_depth_pct"]), row["profile_rms_pct"])
+    """The largest |error| in % over the quantities with a converged reference: the intensity and the
+    12A velocity."""
+    return max(abs(row["intensity_pct"][0]), abs(row["intensity_pct"][1]), abs(row["velocity_12a_pct"]))
 
 
 def main(plot: str | None) -> None:
@@ -127,39 +166,57 @@ def main(plot: str | None) -> None:
     print("references: intensity " + ", ".join(f"{p} {v:.4f} mm" for p, v in ref["intensity_mm"].items())
           + f"; 12A at 67.5 deg {ref['velocity_12a_m_s']:.2f} m/s; {TARGET}: N_f {ref['full_coverage_shots']:.0f}, "
           f"peak {ref['peak_MPa']:.0f} MPa at {ref['peak_depth_mm']:.3f} mm, zero crossing {ref['zero_depth_mm']:.3f} mm")
-    print("\n| h um | preset | intensity % | 12A velocity % | N_f % | peak σxx % | peak depth mm | zero crossing % | "
-          "profile RMS % | worst % | CPU s |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    tf = ref["target_finest_um"]
+    print(f"(strip references from levels down to {ref['strip_finest_um']:g} um; the {TARGET} columns against its "
+          + (f"finest level, {tf:g} um: NOT a converged reference, the change to that level"
+             if tf > RICHARDSON_FINEST_UM else f"levels down to {tf:g} um") + ")")
+    extrap = errors.pop("extrapolated", {})
+    print("\n| h um | preset | intensity % | 12A velocity % | worst % | CPU s || N_f % | peak σxx % | peak depth mm | "
+          "zero crossing % | profile RMS % |")
+    print("|---|---|---|---|---|---||---|---|---|---|---|")
+    f = lambda r, k, fmt: format(r[k], fmt) if k in r else "-"  # noqa: E731
     for h, r in errors.items():
         print(f"| {h:g} | {PRESET_OF.get(h, '-')} | {r['intensity_pct'][0]:+.1f} ... {r['intensity_pct'][1]:+.1f} | "
-              f"{r['velocity_12a_pct']:+.1f} | {r['n_f_pct']:+.1f} | {r['peak_pct']:+.1f} | {r['peak_depth_mm']:+.3f} | "
-              f"{r['zero_depth_pct']:+.1f} | {r['profile_rms_pct']:.1f} | {worst_pct(r):.1f} | {r['cpu_s']:.0f} |")
+              f"{r['velocity_12a_pct']:+.1f} | {worst_pct(r):.1f} | {r['cpu_s']:.0f} || {f(r, 'n_f_pct', '+.1f')} | "
+              f"{f(r, 'peak_pct', '+.1f')} | {f(r, 'peak_depth_mm', '+.3f')} | {f(r, 'zero_depth_pct', '+.1f')} | "
+              f"{f(r, 'profile_rms_pct', '.1f')} |")
+    if extrap:
+        c, fn = extrap["levels_um"]
+        print(f"| {c:g} & {fn:g} extrapolated | - | {extrap['intensity_pct'][0]:+.1f} ... {extrap['intensity_pct'][1]:+.1f} | "
+              f"{extrap['velocity_12a_pct']:+.1f} | {worst_pct(extrap):.1f} | {extrap['cpu_s']:.0f} || - | - | - | - | - |")
+        print("  orders used (leave-one-out means of the other points' Richardson orders): "
+              + ", ".join(f"{p} {o:.2f}" for p, o in extrap["orders"].items()))
     if plot:
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
-        fig, ax = plt.subplots(figsize=(6, 4.2))
+        fig, ax = plt.subplots(figsize=(6.4, 4.4))
         hs = list(errors)
-        for key, label, mk in (("worst", "worst of all", "o"), ("velocity_12a_pct", "12A velocity", "s"),
-                               ("intensity", "intensity (worst point)", "^"), ("profile_rms_pct", "profile RMS", "v")):
-            ys = [worst_pct(errors[h]) if key == "worst" else
-                  max(map(abs, errors[h]["intensity_pct"])) if key == "intensity" else abs(errors[h][key]) for h in hs]
-            ax.plot([errors[h]["cpu_s"] for h in hs], ys, marker=mk, label=label)
+        cost = [errors[h]["cpu_s"] for h in hs]
+        ax.plot(cost, [worst_pct(errors[h]) for h in hs], marker="o", label="worst: intensity, 12A velocity")
+        ax.plot(cost, [abs(errors[h]["velocity_12a_pct"]) for h in hs], marker="s", label="12A velocity")
+        ax.plot(cost, [max(map(abs, errors[h]["intensity_pct"])) for h in hs], marker="^",
+                label="intensity (worst of 4 points)")
+        prof = [(errors[h]["cpu_s"], errors[h]["profile_rms_pct"]) for h in hs if "profile_rms_pct" in errors[h]]
+        if prof:
+            ax.plot(*zip(*prof), marker="v", ls=":", label=f"Al profile RMS vs {tf:g} um (not converged)")
         for h in hs:
             ax.annotate(f"{h:g} um ({PRESET_OF.get(h, '-')})", (errors[h]["cpu_s"], worst_pct(errors[h])),
                         textcoords="offset points", xytext=(4, 4), fontsize=8)
+        if extrap:
+            ax.plot([extrap["cpu_s"]], [worst_pct(extrap)], marker="*", ms=12, ls="none",
+                    label=f"{extrap['levels_um'][0]:g} & {extrap['levels_um'][1]:g} um extrapolated")
         ax.axhline(5.0, color="grey", lw=0.8, ls="--")
         ax.set_xscale("log")
-        ax.set_xlabel("CPU s for the five reference points (one core each)")
+        ax.set_xlabel("CPU s of the reference points at this size (one core each)")
         ax.set_ylabel("|error| against the converged reference, %")
-        ax.set_title("Study-level error against cost, per element size")
-        ax.legend(fontsize=8)
+        ax.set_title("Study-level error against cost (benchmarks/bench_presets.py)")
+        ax.legend(fontsize=7)
         fig.tight_layout()
         fig.savefig(plot, dpi=120)
         print(f"wrote {plot}")
-
 
 if __name__ == "__main__":
     main(sys.argv[1] if len(sys.argv) > 1 else None)

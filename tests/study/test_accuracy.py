@@ -6,7 +6,7 @@ import re
 from pathlib import Path
 
 from peenflow.study import load_study
-from peenflow.study.accuracy import SINGLE_IMPACT, STUDY_LEVEL_INTENSITY, statement
+from peenflow.study.accuracy import SINGLE_IMPACT, STUDY_LEVEL, statement
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -38,30 +38,37 @@ def test_a_measured_size_states_its_error_and_an_unmeasured_one_says_so(tmp_path
     s = statement(study.fidelity)
     assert s["peenflow_fidelity"].startswith("coarse") and "60 um" in s["peenflow_fidelity"]
     assert "dent depth <= 8.4 %" in s["peenflow_fidelity_error"]
-    assert "Almen intensity -10.6 ... -9.3 % at 60 um" in s["peenflow_fidelity_error"]
+    lo, hi, v12a = STUDY_LEVEL[60.0]
+    assert f"Almen intensity {lo:+.1f} ... {hi:+.1f} %, velocity for 12A {v12a:+.1f} % at 60 um" in s["peenflow_fidelity_error"]
     micro = load_study(REPO / "tests" / "tasks" / "micro.toml")  # 100 um
     assert "not measured at 100 um" in statement(micro.fidelity)["peenflow_fidelity_error"]
 
 
 
 def test_the_study_level_numbers_are_the_measured_ones():
-    """STUDY_LEVEL_INTENSITY equals what benchmarks/reference/study_level.json gives by the benchmark's
-    own rule (Richardson on the three finest levels if monotone with order in [0.5, 4], else the finest
-    level), to the 0.1 % it is rounded to."""
-    import json
+    """STUDY_LEVEL equals what benchmarks/reference/study_level.json gives by the benchmark's own rule
+    (per point, Richardson on the three finest levels if monotone with order in [0.5, 4], else the
+    finest level; the 12A velocity by the target_velocity stage's PCHIP inverse), to the 0.1 % it is
+    rounded to."""
     import sys
 
     sys.path.insert(0, str(REPO / "benchmarks"))
-    from bench_reference import OUT, richardson
+    from bench_presets import study_level_errors
 
-    data = json.loads(OUT.read_text())
-    errors = {h: [] for h in STUDY_LEVEL_INTENSITY}
-    for point in ("strip_90_55", "strip_67_35"):
-        hs = [40.0, 25.0, 16.0]
-        fs = [data[f"{point}/{h:g}"]["intensity_mm"] for h in hs]
-        ref, _ = richardson(hs, fs)
-        ref = fs[-1] if ref is None else ref
-        for h in STUDY_LEVEL_INTENSITY:
-            errors[h].append(100.0 * (data[f"{point}/{h:g}"]["intensity_mm"] / ref - 1.0))
-    for h, (lo, hi) in STUDY_LEVEL_INTENSITY.items():
-        assert (round(min(errors[h]), 1), round(max(errors[h]), 1)) == (lo, hi), (h, errors[h])
+    measured = study_level_errors()
+    for h, (lo, hi, v12a) in STUDY_LEVEL.items():
+        row = measured[h]
+        got = (round(row["intensity_pct"][0], 1), round(row["intensity_pct"][1], 1), round(row["velocity_12a_pct"], 1))
+        assert got == (lo, hi, v12a), (h, row)
+
+
+def test_the_12a_velocity_inverts_the_curve_the_stage_uses():
+    """bench_presets.velocity_12a on a straight control curve gives the analytic velocity for 0.30 mm."""
+    import sys
+
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from bench_presets import velocity_12a
+
+    # I = 0.2 mm + 0.01 mm per m/s above 20 m/s: 0.30 mm at 30 m/s (PCHIP of collinear points is the line)
+    assert abs(velocity_12a({25.0: 0.25, 30.0: 0.30, 35.0: 0.35}) - 30.0) < 1e-9
+    assert abs(velocity_12a({25.0: 0.25, 35.0: 0.35, 45.0: 0.45}) - 30.0) < 1e-9

@@ -21,8 +21,11 @@ def test_docs_list_exactly_the_pipeline_stages_in_order():
 
 
 @pytest.mark.parametrize("name", ["quickstart", "paper_almen_s230", "paper_al7075", "paper_al7075_v47",
-                                  "paper_al7075_coarse", "paper_al7075_standard", "paper_fast"])
+                                  "paper_al7075_coarse", "paper_al7075_standard", "paper_fast", "paper_fast_25um",
+                                  *(f"../benchmarks/reference/studies/{p.stem}"
+                                    for p in sorted((REPO / "benchmarks" / "reference" / "studies").glob("*.toml")))])
 def test_shipped_graphs_use_only_listed_stages_in_their_order(name):
+    """Every shipped study, and every study-level reference template, builds its graph."""
     stages = peenflow.api.load_study_graph(REPO / "studies" / f"{name}.toml").stages
     order = list(STAGES)
     assert [order.index(s) for s in stages] == sorted(order.index(s) for s in stages)
