@@ -94,6 +94,14 @@ tests/fe/test_element.py):
   in 8 colours (parity of ``i, j, k``); the reference implementation, in its
   own module (tests and benchmarks only).
 
+The element's algebra -- face vectors and dual basis, rates, hourglass shape
+vectors and per-mode rates, tractions, frame rotations, corner offsets -- is
+written once, as ``inline="always"`` helpers below, and both passes call it:
+numba inlines them at IR level, so the rows compile to the arithmetic they
+had written out (bit-identical: tests/fe/test_driver_golden.py). A helper
+takes at most 30 arguments: CPython compiles a longer call as ``f(*args)``,
+which numba cannot inline.
+
 Each pass is compiled twice from one source, serial and ``parallel=True``
 (``element_rows_parallel``; :func:`peenflow._jit.jit_twins`).
 """

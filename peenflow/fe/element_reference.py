@@ -4,7 +4,10 @@ The production kernel is the blocked, vectorised :func:`peenflow.fe.element.elem
 (one element per SIMD lane). This module keeps the same element written
 plainly, one element per call (:func:`element_update`), and a pass over an
 index box in 8 colours (parity of ``i, j, k``; :func:`element_pass` and its
-``parallel=True`` twin). It is the readable statement of the formulation
+``parallel=True`` twin), built from the same inlined algebra as the rows
+(face vectors, dual basis, rates, hourglass shape vectors and rates,
+tractions, frame rotations: the ``_``-helpers of :mod:`peenflow.fe.element`),
+so the two differ only in loop order and data layout. It is the readable statement of the formulation
 (module docstring of :mod:`peenflow.fe.element`) that the tests and
 benchmarks compare the vectorised rows against (to 1e-12, with plastic flow
 and stored hourglass forces: tests/fe/test_element.py,
