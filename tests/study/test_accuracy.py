@@ -72,3 +72,31 @@ def test_the_12a_velocity_inverts_the_curve_the_stage_uses():
     # I = 0.2 mm + 0.01 mm per m/s above 20 m/s: 0.30 mm at 30 m/s (PCHIP of collinear points is the line)
     assert abs(velocity_12a({25.0: 0.25, 30.0: 0.30, 35.0: 0.35}) - 30.0) < 1e-9
     assert abs(velocity_12a({25.0: 0.25, 35.0: 0.35, 45.0: 0.45}) - 30.0) < 1e-9
+
+
+def test_two_level_extrapolation_recovers_an_exact_power_law():
+    """bench_presets' paired two-level extrapolation: on levels that follow I(h) = I_inf - c h^p exactly
+    (the same p at every point), the leave-one-out order is p and the 40 / 25 um extrapolation is
+    I_inf, so its intensity and 12A-velocity errors against the Richardson references are zero."""
+    import sys
+
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from bench_presets import CURVE, STRIP_POINTS, study_level_errors
+
+    p, c = 1.7, 2e-5
+    limits = {"strip_90_55": 0.47, "strip_67_25": 0.29, "strip_67_30": 0.33, "strip_67_35": 0.36}
+    assert set(limits) == set(STRIP_POINTS) and set(CURVE.values()) <= set(limits)
+    data = {}
+    for point, inf in limits.items():
+        for h in (60.0, 40.0, 25.0, 16.0):
+            data[f"{point}/{h:g}"] = {"intensity_mm": inf - c * h**p, "cpu_s": 1.0}
+    for h in (40.0, 25.0):  # a target is required by the table; its values do not enter the strip errors
+        data[f"al7075_30/{h:g}"] = {"full_coverage_shots": 100.0, "peak_MPa": -500.0, "zero_depth_mm": 0.4,
+                                    "peak_depth_mm": 0.06, "z_mm": [0.05, 0.15], "sxx_MPa": [-500.0, 0.0],
+                                    "cpu_s": 1.0}
+    errors = study_level_errors(data)
+    ext = errors["extrapolated"]
+    assert all(abs(o - p) < 1e-6 for o in ext["orders"].values())
+    assert max(map(abs, ext["intensity_pct"])) < 1e-6 and abs(ext["velocity_12a_pct"]) < 1e-6
+    # while the 25 um level alone is low by c 25^p / I_inf
+    assert errors[25.0]["intensity_pct"][0] < -0.5
