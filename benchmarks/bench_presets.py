@@ -41,7 +41,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
-from bench_reference import OUT, richardson  # noqa: E402
+from bench_reference import OUT, extrapolate, richardson  # noqa: E402
 
 STRIP_POINTS = ("strip_90_55", "strip_67_25", "strip_67_30", "strip_67_35")
 CURVE = {25.0: "strip_67_25", 30.0: "strip_67_30", 35.0: "strip_67_35"}  # the 67.5 deg control curve
@@ -127,26 +127,32 @@ def study_level_errors(data: dict | None = None) -> dict[float, dict]:
     return out
 
 
+def reference_orders(strips: dict) -> dict[str, float]:
+    """{point: Richardson order of its 40 / 25 / 16 um intensities} where they converge cleanly;
+    ``strips``: {point: {element size um: level entry}}."""
+    hs = [40.0, 25.0, 16.0]
+    orders = {}
+    for p, lv in strips.items():
+        if all(h in lv for h in hs):
+            _, order = richardson(hs, [lv[h]["intensity_mm"] for h in hs])
+            if order is not None:
+                orders[p] = order
+    return orders
+
+
 def _two_level(strips: dict, ref_i: dict, ref_v: float, coarse: float = 40.0, fine: float = 25.0) -> dict:
     """Errors of the two-level extrapolation ``I = I_f + (I_f - I_c) h_f^p / (h_c^p - h_f^p)`` from the
     ``coarse`` and ``fine`` levels (the same shot streams: paired), with each point's order ``p`` the
     mean of the Richardson orders (40 / 25 / 16 um) of the *other* points (leave one out: no point
     is extrapolated with its own reference's order). Cost: both levels."""
-    orders = {}
-    for p, lv in strips.items():
-        hs = [40.0, 25.0, 16.0]
-        if all(h in lv for h in hs):
-            _, order = richardson(hs, [lv[h]["intensity_mm"] for h in hs])
-            if order is not None:
-                orders[p] = order
+    orders = reference_orders(strips)
     ext, used = {}, {}
     for p, lv in strips.items():
         others = [o for q, o in orders.items() if q != p]
         if not others or coarse not in lv or fine not in lv:
             return {}
         k = used[p] = float(np.mean(others))
-        ic, if_ = lv[coarse]["intensity_mm"], lv[fine]["intensity_mm"]
-        ext[p] = if_ + (if_ - ic) * fine**k / (coarse**k - fine**k)
+        ext[p] = extrapolate(lv[coarse]["intensity_mm"], lv[fine]["intensity_mm"], coarse, fine, k)
     ierr = [100.0 * (ext[p] / ref_i[p] - 1.0) for p in STRIP_POINTS]
     return {"intensity_pct": (min(ierr), max(ierr)),
             "velocity_12a_pct": 100.0 * (velocity_12a({v: ext[p] for v, p in CURVE.items()}) / ref_v - 1.0),

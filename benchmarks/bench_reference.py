@@ -165,8 +165,9 @@ def _collect_target(study: Path) -> dict:
 
 
 def _is_target(point: str) -> bool:
-    return any(ln.strip() == "[target]" for ln in (STUDIES / f"{point}.toml").read_text().splitlines()) and not any(
-        ln.strip() == "[almen]" for ln in (STUDIES / f"{point}.toml").read_text().splitlines())
+    """A reference study with ``[target]`` and no ``[almen]`` (run up to ``residual_profile``)."""
+    sections = {ln.strip() for ln in (STUDIES / f"{point}.toml").read_text().splitlines()}
+    return "[target]" in sections and "[almen]" not in sections
 
 
 def run(point: str, levels: list[str]) -> None:
@@ -217,6 +218,12 @@ def _template_side(point: str) -> float:
     return float("nan")
 
 
+def extrapolate(f_coarse, f_fine, h_coarse, h_fine, p):
+    """The limit of ``f(h) = f0 + c h^p`` through two levels: ``f_fine + (f_fine - f_coarse) h_fine^p /
+    (h_coarse^p - h_fine^p)`` (works on arrays)."""
+    return f_fine + (f_fine - f_coarse) * h_fine**p / (h_coarse**p - h_fine**p)
+
+
 def richardson(hs, fs, p_range=(0.5, 4.0)):
     """(extrapolated value, order) from three levels h1 > h2 > h3, or (None, None) when not monotone
     or the order is outside ``p_range``."""
@@ -232,7 +239,7 @@ def richardson(hs, fs, p_range=(0.5, 4.0)):
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if g(lo) * g(mid) > 0 else (lo, mid)
     p = 0.5 * (lo + hi)
-    return f3 + (f3 - f2) * h3**p / (h2**p - h3**p), p
+    return extrapolate(f2, f3, h2, h3, p), p
 
 
 def table(only: str | None = None) -> None:

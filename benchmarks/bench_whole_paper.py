@@ -27,32 +27,23 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
-from bench_presets import INTENSITY_12A_MM, OUT, STRIP_POINTS, _levels, study_level_errors  # noqa: E402
-from bench_reference import richardson  # noqa: E402
+from bench_presets import INTENSITY_12A_MM, OUT, STRIP_POINTS, _levels, reference_orders, study_level_errors  # noqa: E402
+from bench_reference import _results, extrapolate  # noqa: E402
 
 STUDIES = {40.0: ROOT / "studies" / "paper_fast.toml", 25.0: ROOT / "studies" / "paper_fast_25um.toml"}
 
 
 def _intensities(study: Path):
-    from peenflow.api import load_study_graph
-    from peenflow.engine import DirectoryStore, stage_result
-
-    graph = load_study_graph(study)
-    sat = stage_result(graph, DirectoryStore(study.parent / ".peenflow"), "saturation")
+    (sat,) = _results(study, "saturation")
     mm = sat.intensity_m.transpose("angle_deg", "velocity_m_s") * 1e3
     return (np.asarray(sat.angle_deg, float), np.asarray(sat.velocity_m_s, float), np.asarray(mm),
             np.asarray(sat.sequence_intensity_m.count("sequence").transpose("angle_deg", "velocity_m_s")))
 
 
 def mean_order() -> float:
+    """Mean Richardson order of the study-level reference points' intensities."""
     data = json.loads(OUT.read_text())
-    orders = []
-    for p in STRIP_POINTS:
-        lv = _levels(data, p)
-        _, order = richardson([40.0, 25.0, 16.0], [lv[h]["intensity_mm"] for h in (40.0, 25.0, 16.0)])
-        if order is not None:
-            orders.append(order)
-    return float(np.mean(orders))
+    return float(np.mean(list(reference_orders({p: _levels(data, p) for p in STRIP_POINTS}).values())))
 
 
 def main() -> None:
@@ -62,7 +53,7 @@ def main() -> None:
     assert np.array_equal(vel, vel25)
     p = mean_order()
     k = 25.0**p / (40.0**p - 25.0**p)
-    ext = i25 + (i25 - i40) * k
+    ext = extrapolate(i40, i25, 40.0, 25.0, p)
     ref_v = study_level_errors()["reference"]["velocity_12a_m_s"]
     print(f"order p = {p:.3f} (mean of the reference points' Richardson orders); factor {k:.3f}")
     print("\n| angle | velocity m/s | 40 um mm (seq.) | 25 um mm (seq.) | extrapolated mm |")
