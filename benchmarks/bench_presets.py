@@ -140,24 +140,33 @@ def reference_orders(strips: dict) -> dict[str, float]:
     return orders
 
 
+def intensity_order(strips: dict, leave_out: str | None = None) -> float:
+    """The order p of the two-level extrapolation: the mean Richardson order of the strip references
+    (:func:`reference_orders`), without ``leave_out``'s own (cross-validation)."""
+    return float(np.mean([o for q, o in reference_orders(strips).items() if q != leave_out]))
+
+
 def _two_level(strips: dict, ref_i: dict, ref_v: float, coarse: float = 40.0, fine: float = 25.0) -> dict:
-    """Errors of the two-level extrapolation ``I = I_f + (I_f - I_c) h_f^p / (h_c^p - h_f^p)`` from the
-    ``coarse`` and ``fine`` levels (the same shot streams: paired), with each point's order ``p`` the
+    """Errors of the paired two-level extrapolation from the ``coarse`` and ``fine`` levels (the same
+    shot streams), by the rule the studies use (``fidelity.extrapolate_intensity_from_um``,
+    tasks/intensity_extrapolation.py): the fine level's intensity plus ``k`` times the mean per-sequence
+    fine-minus-coarse difference, ``k = h_f^p / (h_c^p - h_f^p)``, with each point's order ``p`` the
     mean of the Richardson orders (40 / 25 / 16 um) of the *other* points (leave one out: no point
     is extrapolated with its own reference's order). Cost: both levels."""
-    orders = reference_orders(strips)
+    from peenflow.methods import paired_correction
+
     ext, used = {}, {}
     for p, lv in strips.items():
-        others = [o for q, o in orders.items() if q != p]
-        if not others or coarse not in lv or fine not in lv:
+        if coarse not in lv or fine not in lv:
             return {}
-        k = used[p] = float(np.mean(others))
-        ext[p] = extrapolate(lv[coarse]["intensity_mm"], lv[fine]["intensity_mm"], coarse, fine, k)
+        k = used[p] = intensity_order(strips, leave_out=p)
+        per = [dict(enumerate(lv[h]["sequence_intensity_mm"])) for h in (fine, coarse)]
+        ext[p] = lv[fine]["intensity_mm"] + paired_correction(*per, coarse, fine, k).correction
     ierr = [100.0 * (ext[p] / ref_i[p] - 1.0) for p in STRIP_POINTS]
     return {"intensity_pct": (min(ierr), max(ierr)),
             "velocity_12a_pct": 100.0 * (velocity_12a({v: ext[p] for v, p in CURVE.items()}) / ref_v - 1.0),
             "cpu_s": sum(strips[p][h]["cpu_s"] for p in STRIP_POINTS for h in (coarse, fine)),
-            "orders": used, "levels_um": (coarse, fine)}
+            "orders": used, "levels_um": (coarse, fine), "order_all": intensity_order(strips)}
 
 
 def worst_pct(row: dict) -> float:
@@ -191,7 +200,8 @@ def main(plot: str | None) -> None:
         print(f"| {c:g} & {fn:g} extrapolated | - | {extrap['intensity_pct'][0]:+.1f} ... {extrap['intensity_pct'][1]:+.1f} | "
               f"{extrap['velocity_12a_pct']:+.1f} | {worst_pct(extrap):.1f} | {extrap['cpu_s']:.0f} || - | - | - | - | - |")
         print("  orders used (leave-one-out means of the other points' Richardson orders): "
-              + ", ".join(f"{p} {o:.2f}" for p, o in extrap["orders"].items()))
+              + ", ".join(f"{p} {o:.2f}" for p, o in extrap["orders"].items())
+              + f"; the studies' default (mean of all): {extrap['order_all']:.2f}")
     if plot:
         import matplotlib
 

@@ -220,8 +220,11 @@ def _template_side(point: str) -> float:
 
 def extrapolate(f_coarse, f_fine, h_coarse, h_fine, p):
     """The limit of ``f(h) = f0 + c h^p`` through two levels: ``f_fine + (f_fine - f_coarse) h_fine^p /
-    (h_coarse^p - h_fine^p)`` (works on arrays)."""
-    return f_fine + (f_fine - f_coarse) * h_fine**p / (h_coarse**p - h_fine**p)
+    (h_coarse^p - h_fine^p)`` (works on arrays): :func:`peenflow.methods.two_level_limit`, the formula
+    the studies' ``fidelity.extrapolate_intensity_from_um`` uses."""
+    from peenflow.methods import two_level_limit
+
+    return two_level_limit(f_coarse, f_fine, h_coarse, h_fine, p)
 
 
 def richardson(hs, fs, p_range=(0.5, 4.0)):

@@ -65,6 +65,7 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
         return _result(graph, store, stage)
 
     control = get("control_curve")
+    ext = get("intensity_extrapolation")
     if control is not None:
         for a in control.angle_deg.values:
             for v in control.velocity_m_s.values:
@@ -75,6 +76,12 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
                 note = f"saturation T = {float(c.saturation_shots):.0f} shots"
                 if int(c.intensity_extrapolated):
                     note += ", beyond the ladder (extrapolated)"
+                if ext is not None:
+                    e = ext.sel(angle_deg=a, velocity_m_s=v)
+                    hc, hf = ext.attrs["coarse_element_size_m"] / 1e-6, ext.attrs["fine_element_size_m"] / 1e-6
+                    note += (f"; to zero element size from {float(e.fine_intensity_m) / MM:.3f} mm at {hf:g} um and "
+                             f"{float(e.coarse_intensity_m) / MM:.3f} mm at {hc:g} um "
+                             f"(correction {_pm(float(e.mesh_correction_m) / MM, float(e.mesh_correction_standard_error_m) / MM, 'mm')})")
                 rows.append((f"Almen intensity, {a:g} deg, {v:g} m/s", _pm(i, float(c.intensity_std_m) / MM, "mm"),
                              note))
     tv = get("target_velocity")

@@ -43,6 +43,7 @@ __all__ = ["StageParams", "MaterialParams", "ShotParams", "FidelityParams", "Dmi
            "StudyParams", "study_params"]
 
 MM = 1e-3
+UM = 1e-6
 
 
 @dataclass(frozen=True)
@@ -310,6 +311,24 @@ class SequencesParams(StageParams):
 
 
 @dataclass(frozen=True)
+class ExtrapolationParams(StageParams):
+    """Paired two-level extrapolation of the Almen intensities (``fidelity.extrapolate_intensity_from_um``):
+    element sizes of the ``coarse_element_size_m`` and ``fine_element_size_m`` levels (m) and the
+    ``order`` p of I(h) = I0 + c h^p; ``order_measured``: whether p is the measured default
+    (peenflow.study.accuracy.INTENSITY_ORDER) rather than the study's own."""
+
+    coarse_element_size_m: float
+    fine_element_size_m: float
+    order: float
+    order_measured: bool
+
+    def describe(self) -> str:
+        how = "measured order" if self.order_measured else "order given by the study"
+        return (f"extrapolated to zero element size from {self.coarse_element_size_m / UM:g} and "
+                f"{self.fine_element_size_m / UM:g} um, paired sequences, {how} {self.order:g}")
+
+
+@dataclass(frozen=True)
 class RevParams(StageParams):
     """The REV rule's inputs: ``rule`` ("dmin" | "paper" | "explicit"), ``thickness_m``,
     ``shot_diameter_m``, and the given ``side_m`` / ``measure_side_m`` (m, None: by the rule)."""
@@ -371,6 +390,9 @@ class StudyParams:
     target_rev: RevParams | None
     plate: PlateParams | None
     measured: MeasuredProfile | None
+    #: the intensity extrapolation and its coarse level's fidelity (None without one)
+    extrapolation: ExtrapolationParams | None = None
+    coarse_fidelity: FidelityParams | None = None
 
 
 def study_params(study) -> StudyParams:
@@ -403,10 +425,18 @@ def study_params(study) -> StudyParams:
                                _mm(t.rev_size_mm), _mm(t.measure_size_mm))
         plate = PlateParams(t.thickness_m, t.material.youngs_modulus_Pa, t.material.poisson_ratio)
         measured = t.measured_profile
-    return StudyParams(ShotParams.from_study(study.shot), FidelityParams.from_study(study.fidelity),
+    fidelity = FidelityParams.from_study(study.fidelity)
+    extrapolation = coarse_fidelity = None
+    if (hc := study.fidelity.extrapolate_intensity_from_um) is not None:
+        f = study.fidelity
+        extrapolation = ExtrapolationParams(hc * UM, fidelity.element_size_m, f.intensity_order,
+                                            f.intensity_extrapolation_order is None)
+        # computed as a study at that element size computes it, so such a study's strip results are shared
+        coarse_fidelity = FidelityParams.from_study(f.model_copy(update={"element_size_um": hc}))
+    return StudyParams(ShotParams.from_study(study.shot), fidelity,
                        DminParams.from_study(study.dmin), strip_material, strip, strip_rev, ladder, sequences,
                        coverage,
-                       target_material, target, target_rev, plate, measured)
+                       target_material, target, target_rev, plate, measured, extrapolation, coarse_fidelity)
 
 
 def _mm(value: float | None) -> float | None:

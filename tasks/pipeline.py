@@ -7,6 +7,9 @@
     strip_rev -> strip_runs[angle, velocity, sequence] -> arc_height[angle, velocity]
               (sequence grows per point with almen.sequence_tolerance_mm: tasks/strip_sequences.py)
               -> saturation[angle, velocity] -> control_curve
+    with fidelity.extrapolate_intensity_from_um, the same chain at the coarse element size
+    (coarse_strip_runs -> coarse_arc_height -> coarse_saturation), and
+              saturation + coarse_saturation -> intensity_extrapolation[angle, velocity] -> control_curve
     control_curve -> target_velocity -> target_impact -> target_indentation
     target_impact -> target_dmin -> target_rev                       (no target.rev_size_mm)
     target_indentation + target_rev -> coverage_curve
@@ -35,6 +38,7 @@ from .coverage_curve import coverage_curve
 from .dmin import dmin
 from .headline import headline_numbers
 from .indentation import indentation
+from .intensity_extrapolation import intensity_extrapolation
 from .params import study_params
 from .plots import write_plots
 from .report import write_report
@@ -64,6 +68,12 @@ STAGES: dict[str, str] = {
     "strip_runs": "[almen]: strip REV runs per angle, velocity and sequence, a snapshot at every shot count",
     "arc_height": "[almen]: arc heights (eqs. 6-9) along the shot ladder",
     "saturation": "[almen]: saturation fit (eq. 10) and intensity at eq. (11)'s saturation point",
+    "coarse_strip_runs": "[fidelity] extrapolate_intensity_from_um: the strip runs again at that coarser element "
+                         "size, with the same shot streams",
+    "coarse_arc_height": "[fidelity] extrapolate_intensity_from_um: arc heights of the coarse strip runs",
+    "coarse_saturation": "[fidelity] extrapolate_intensity_from_um: saturation fits of the coarse strip runs",
+    "intensity_extrapolation": "[fidelity] extrapolate_intensity_from_um: each intensity extrapolated to zero "
+                               "element size from the two levels (paired sequences)",
     "control_curve": "[almen]: intensity against velocity, per angle (Fig. 17)",
     "target_velocity": "[target]: the velocity for the target intensity (or target.velocity_m_s as given)",
     "target_impact": "[target]: one shot on a block of the target material",
@@ -107,17 +117,18 @@ def build_graph(path) -> Graph:
                     stage="strip_coverage", params={"settings": p.coverage, "coverage_percent": 100.0})
         else:
             rev = g.add(rev_size, stage="strip_rev", params={"rev": p.strip_rev})
-        sweep = {"angle_deg": list(almen.angles_deg), "velocity_m_s": list(almen.velocities_m_s)}
-        # the ladder extends itself (tasks/strip_runs.py), or a given one keeps its keys
-        ladder = {"extend": p.ladder} if p.ladder is not None else {"shot_counts": list(almen.shot_counts)}
-        # adaptive sequences: each point grows its sequences until the intensity's error is small enough
-        grow = None if p.sequences is None else Grow("sequence", p.sequences.start, sequences_rule(p.sequences))
-        runs = g.sweep(strip_runs, dims={**sweep, "sequence": list(range(almen.sequences_cap))}, upstream={"rev": rev},
-                       params={**smat, **ladder},
-                       point_params=lambda c: {"seed": study.seeds.seed("almen", c["sequence"])}, grow=grow)
-        arc = g.sweep(arc_height, dims=sweep, upstream={"runs": runs}, params={"strip": p.strip})
-        sat = g.sweep(saturation, dims=sweep, upstream={"arc": arc}, params={
-            "fit": almen.saturation_fit, **({} if p.sequences is None else {"sequences": p.sequences})})
+        sat = _strip_level(g, study, p, rev, p.fidelity)
+        if p.extrapolation is not None:
+            # the same strip runs at the coarse level (same seeds: paired), then each intensity to h -> 0
+            coarse = _strip_level(g, study, p, rev, p.coarse_fidelity, prefix="coarse_")
+            sat = g.sweep(intensity_extrapolation, dims=_strip_sweep(study), upstream={"fine": sat, "coarse": coarse},
+                          params={"extrapolation": p.extrapolation})
+            # a one-level result says which level made it (tasks/intensity_extrapolation.py)
+            fine_only = fidelity_statement(study.fidelity, extrapolated=False)
+            coarse_only = fidelity_statement(study.fidelity, element_size_um=study.fidelity.extrapolate_intensity_from_um)
+            for stage in LEVEL_STAGES:
+                g.stage_result_attrs[stage] = fine_only
+                g.stage_result_attrs["coarse_" + stage] = coarse_only
         control = g.add(control_curve, upstream={"sat": sat}, params={"interpolation": almen.interpolation})
 
     if study.target is not None:
@@ -173,6 +184,36 @@ def build_graph(path) -> Graph:
 
     g.reports.append(plots_and_report)
     return g
+
+
+#: the strip stages one element size makes; a study that extrapolates its intensities runs them at a
+#: coarse level too, as ``coarse_<stage>``
+LEVEL_STAGES = ("strip_runs", "arc_height", "saturation")
+
+
+def _strip_sweep(study) -> dict:
+    return {"angle_deg": list(study.almen.angles_deg), "velocity_m_s": list(study.almen.velocities_m_s)}
+
+
+def _strip_level(g: Graph, study, p, rev, fidelity, prefix: str = ""):
+    """strip_runs -> arc_height -> saturation at one element size (``fidelity``); the saturation sweep.
+
+    The same seeds at every level, so two levels see the same shot streams; the parameters are those
+    of a study at that element size, so a study run at it shares these results."""
+    almen = study.almen
+    smat = {"material": p.strip_material, "shot": p.shot, "fidelity": fidelity}
+    sweep = _strip_sweep(study)
+    # the ladder extends itself (tasks/strip_runs.py), or a given one keeps its keys
+    ladder = {"extend": p.ladder} if p.ladder is not None else {"shot_counts": list(almen.shot_counts)}
+    # adaptive sequences: each point grows its sequences until the intensity's error is small enough
+    grow = None if p.sequences is None else Grow("sequence", p.sequences.start, sequences_rule(p.sequences))
+    runs = g.sweep(strip_runs, dims={**sweep, "sequence": list(range(almen.sequences_cap))}, upstream={"rev": rev},
+                   params={**smat, **ladder}, stage=prefix + "strip_runs",
+                   point_params=lambda c: {"seed": study.seeds.seed("almen", c["sequence"])}, grow=grow)
+    arc = g.sweep(arc_height, dims=sweep, upstream={"runs": runs}, params={"strip": p.strip},
+                  stage=prefix + "arc_height")
+    return g.sweep(saturation, dims=sweep, upstream={"arc": arc}, stage=prefix + "saturation", params={
+        "fit": almen.saturation_fit, **({} if p.sequences is None else {"sequences": p.sequences})})
 
 
 def report_dir(store, study_path: Path) -> Path:

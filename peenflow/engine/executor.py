@@ -53,6 +53,7 @@ def point_specs(graph: Graph, nodes: list[Node], store: DirectoryStore, forced: 
     from .content import PROVENANCE_PREFIX
 
     bad = [k for k in graph.result_attrs if not k.startswith(PROVENANCE_PREFIX)]
+    bad += [k for attrs in graph.stage_result_attrs.values() for k in attrs if not k.startswith(PROVENANCE_PREFIX)]
     if bad:  # a programming error of the pipeline: these would enter the content hashes
         raise ValueError(f"graph.result_attrs names must start with {PROVENANCE_PREFIX!r}: {bad}")
     out = {}
@@ -71,7 +72,7 @@ def point_specs(graph: Graph, nodes: list[Node], store: DirectoryStore, forced: 
             forced=node.node_id in forced,
             threads=threads[node.stage] if isinstance(threads, dict) else threads,
             sweep_attrs={d: dict(graph.coord_attrs.get(d, {})) for d in node.coords},
-            result_attrs=dict(graph.result_attrs),
+            result_attrs={**graph.result_attrs, **graph.stage_result_attrs.get(node.stage, {})},
         )
         out[node.node_id] = (spec, [u.node_id for u in ups])
     return out

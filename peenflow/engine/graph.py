@@ -123,6 +123,9 @@ class Graph:
         #: hash (a study's statement about its own fidelity, say): names start with ``peenflow_``,
         #: the provenance prefix; a result reused from another study keeps its own
         self.result_attrs: dict[str, str] = {}
+        #: per stage, attributes that replace or add to ``result_attrs`` on that stage's results
+        #: (``{stage: {name: value}}``: a stage computed at another fidelity says so)
+        self.stage_result_attrs: dict[str, dict[str, str]] = {}
         #: sweeps with a growing dimension (:mod:`.growth`), in graph order
         self.growing: list[Sweep] = []
         #: where each group of a growing sweep stands after the last ``growth.resolve``

@@ -13,6 +13,7 @@ name says otherwise (``angle_deg``, ``*_percent``). One concept per module:
 * :mod:`.ladder`           -- a doubling shot ladder and when it may stop (eq. (11) inside its data)
 * :mod:`.sequences`        -- adaptive sequences: enough when the intensity's standard error meets a tolerance
 * :mod:`.control_curve`    -- intensity vs velocity per angle, inverse, angle interpolation
+* :mod:`.mesh_extrapolation` -- paired two-level extrapolation of a study-level output to zero element size
 """
 
 from .arc_height import StripRelease, clamping_force_moment, release_strip
@@ -41,6 +42,7 @@ from .dmin import (
     stress_region,
 )
 from .indentation import DentEllipse, dent_ellipse
+from .mesh_extrapolation import PairedCorrection, extrapolation_factor, paired_correction, two_level_limit
 from .ladder import LadderVerdict, doubling_ladder, ladder_verdict
 from .residual_profile import VOIGT, DepthProfile, EquilibriumResidual, LayerAverage, average_over_region, equilibrium_residual
 from .saturation import GROWTH_RATIO, SaturationFit, SequenceSaturation, fit_saturation, fit_sequences
@@ -56,6 +58,7 @@ __all__ = [
     "regions_overlap", "single_impact_region_radius", "stress_region",
     "DentEllipse", "dent_ellipse",
     "LadderVerdict", "doubling_ladder", "ladder_verdict",
+    "PairedCorrection", "extrapolation_factor", "paired_correction", "two_level_limit",
     "VOIGT", "DepthProfile", "EquilibriumResidual", "LayerAverage", "average_over_region", "equilibrium_residual",
     "GROWTH_RATIO", "SaturationFit", "SequenceSaturation", "fit_saturation", "fit_sequences",
     "SequencesVerdict", "sequences_verdict",

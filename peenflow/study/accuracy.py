@@ -28,8 +28,8 @@ with the headline numbers and tabled in README.md.
 
 from __future__ import annotations
 
-__all__ = ["SINGLE_IMPACT", "SINGLE_IMPACT_SOURCE", "STUDY_LEVEL", "STUDY_LEVEL_SOURCE",
-           "single_impact_error", "study_level_error", "statement"]
+__all__ = ["SINGLE_IMPACT", "SINGLE_IMPACT_SOURCE", "STUDY_LEVEL", "STUDY_LEVEL_EXTRAPOLATED",
+           "INTENSITY_ORDER", "STUDY_LEVEL_SOURCE", "single_impact_error", "study_level_error", "statement"]
 
 #: element size um -> worst error over the four cases: (dent %, sigma_xx peak %, zero crossing %,
 #: restitution, profile RMS %), BENCHMARKS.md section 4c
@@ -50,6 +50,16 @@ STUDY_LEVEL: dict[float, tuple[float, float, float]] = {
     25.0: (-4.5, 0.1, 7.6),
 }
 STUDY_LEVEL_SOURCE = "BENCHMARKS.md section 9"
+#: the order p of the intensities' convergence, I(h) = I0 + c h^p: the mean Richardson order of the
+#: strip references from 40 / 25 / 16 um (1.99, 1.84, 1.72; BENCHMARKS.md section 9), the default of
+#: ``fidelity.intensity_extrapolation_order``
+INTENSITY_ORDER = 1.85
+#: (coarse um, fine um) -> as STUDY_LEVEL, for intensities extrapolated from the two levels by the
+#: studies' rule (``fidelity.extrapolate_intensity_from_um``; each point with the mean order of the
+#: *other* points: cross-validated), BENCHMARKS.md section 9
+STUDY_LEVEL_EXTRAPOLATED: dict[tuple[float, float], tuple[float, float, float]] = {
+    (40.0, 25.0): (-0.6, 3.5, 0.3),
+}
 
 
 def single_impact_error(element_size_um: float) -> str | None:
@@ -62,24 +72,53 @@ def single_impact_error(element_size_um: float) -> str | None:
     return None
 
 
-def study_level_error(element_size_um: float) -> str:
-    """The measured study-level error at this element size as one sentence."""
+def _same(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-9 * max(abs(a), abs(b))
+
+
+def study_level_error(element_size_um: float, extrapolated_from_um: float | None = None,
+                      order: float = INTENSITY_ORDER) -> str:
+    """The measured study-level error at this element size as one sentence; with
+    ``extrapolated_from_um``, that of the intensities extrapolated from that coarser level
+    and this one with ``order``."""
+    refs = "4 strip points and the 67.5 deg control curve against references from 40 / 25 / 16 um"
+    tail = "; N_f and the profile not yet against a converged reference"
+    if extrapolated_from_um is not None:
+        how = (f"Almen intensities extrapolated from {extrapolated_from_um:g} and {element_size_um:g} um "
+               f"(paired, order {order:g})")
+        for (hc, hf), (lo, hi, v12a) in STUDY_LEVEL_EXTRAPOLATED.items():
+            if _same(hc, extrapolated_from_um) and _same(hf, element_size_um):
+                basis = "" if _same(order, INTENSITY_ORDER) else (
+                    f", measured with order {INTENSITY_ORDER:g} where this study gives {order:g}")
+                return (f"study level ({STUDY_LEVEL_SOURCE}: {refs}): {how}: Almen intensity {lo:+.1f} ... "
+                        f"{hi:+.1f} %, velocity for 12A {v12a:+.1f} %{basis}{tail}")
+        return f"study level not measured for {how} ({STUDY_LEVEL_SOURCE})"
     for h, (lo, hi, v12a) in STUDY_LEVEL.items():
-        if abs(h - element_size_um) <= 1e-9 * h:
-            return (f"study level ({STUDY_LEVEL_SOURCE}: 4 strip points and the 67.5 deg control curve against "
-                    f"references from 40 / 25 / 16 um): Almen intensity {lo:+.1f} ... {hi:+.1f} %, velocity for "
-                    f"12A {v12a:+.1f} % at {h:g} um; N_f and the profile not yet against a converged reference")
+        if _same(h, element_size_um):
+            return (f"study level ({STUDY_LEVEL_SOURCE}: {refs}): Almen intensity {lo:+.1f} ... {hi:+.1f} %, "
+                    f"velocity for 12A {v12a:+.1f} % at {h:g} um{tail}")
     return f"study level not measured at {element_size_um:g} um ({STUDY_LEVEL_SOURCE})"
 
 
-def statement(fidelity) -> dict[str, str]:
+def statement(fidelity, element_size_um: float | None = None, extrapolated: bool = True) -> dict[str, str]:
     """``peenflow_fidelity`` (what made the result) and ``peenflow_fidelity_error`` (what that is
-    measured to cost) for a loaded :class:`~peenflow.study.fidelity.Fidelity`."""
-    h = fidelity.element_size_um
+    measured to cost) for a loaded :class:`~peenflow.study.fidelity.Fidelity`.
+
+    ``element_size_um``: the element size of the result when it is not the study's own (the coarse
+    level of an intensity extrapolation); ``extrapolated``: False for results of one level only
+    (the strip runs, arc heights and saturation fits of a study that extrapolates its intensities)."""
+    h = fidelity.element_size_um if element_size_um is None else element_size_um
+    coarse = fidelity.extrapolate_intensity_from_um if extrapolated and element_size_um is None else None
+    order = fidelity.intensity_order
     single = single_impact_error(h) or (
         f"single impact not measured at {h:g} um (measured: "
         + ", ".join(f"{k:g}" for k in SINGLE_IMPACT) + f" um, {SINGLE_IMPACT_SOURCE})")
+    made = f"{fidelity.describe()}: {h:g} um elements, lateral faces {fidelity.lateral_boundary}"
+    if coarse is not None:
+        made += f"; Almen intensities extrapolated to zero element size from {coarse:g} and {h:g} um (order {order:g})"
+    elif element_size_um is not None:
+        made += " (the coarse level of the intensity extrapolation)"
     return {
-        "peenflow_fidelity": f"{fidelity.describe()}: {h:g} um elements, lateral faces {fidelity.lateral_boundary}",
-        "peenflow_fidelity_error": f"{single}; {study_level_error(h)}",
+        "peenflow_fidelity": made,
+        "peenflow_fidelity_error": f"{single}; {study_level_error(h, coarse, order)}",
     }

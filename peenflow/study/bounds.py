@@ -63,6 +63,12 @@ BOUNDS: tuple[Bound, ...] = (
     Bound("coverage.grid_points", 2.0, 2001.0, "", "memory of the measuring grid (points^2)"),
     Bound("coverage.max_shots", 1.0, 1e6, "shots", "Monte Carlo cost"),
     Bound("fidelity.element_size_um", 6.25, 100.0, "um", _H),
+    Bound("fidelity.extrapolate_intensity_from_um", 6.25, 40.0, "um",
+          "40 & 25 um extrapolated are within -0.6 ... +3.5 % of the strip references; a 60 um level is "
+          "pre-asymptotic (60 & 40 um: -11.3 ... +0.9 %, 12A velocity +14.7 %; BENCHMARKS.md section 9)"),
+    Bound("fidelity.intensity_extrapolation_order", 0.5, 4.0, "",
+          "the strip references converge with orders 1.72-1.99; outside [0.5, 4] no level triple was accepted "
+          "as converging (benchmarks/bench_reference.py)"),
     Bound("fidelity.fine_depth_D", 0.25, 4.0, "D", "shipped presets use 0.75-1 D: the plastic zone is ~0.5 D deep"),
     Bound("fidelity.fine_depth_mm", 0.05, 10.0, "mm", "the same as fine_depth_D for 0.1-2.5 mm shot"),
     Bound("fidelity.time_step_safety", 0.1, 1.0, "",
@@ -93,10 +99,12 @@ RELATIVE_BOUNDS: tuple[tuple[str, str, str], ...] = (
      "the dents computed so far have radii of 0.2-0.26 D (README): D / 5 keeps at least one element per dent radius"),
     ("fidelity.element_size_um", "at most 7.5 estimated contact radii at the study's lowest velocity",
      "the stability sweep reaches 7.3 (1 m/s on 100 um elements, SAE 1070; bench_stability.py low)"),
-    ("almen.rev_size_mm", "at least 1 D and 10 elements", "a REV must hold one dent; fewer elements "
+    ("fidelity.extrapolate_intensity_from_um", "at most D / 5 and 7.5 estimated contact radii at the lowest "
+     "almen velocity, as fidelity.element_size_um", "its level runs the strips (as fidelity.element_size_um)"),
+    ("almen.rev_size_mm", "at least 1 D and 10 elements (of the coarse level too, with an intensity extrapolation)", "a REV must hold one dent; fewer elements "
      "leave no measuring region (a REV smaller than one element failed in coverage_curve)"),
     ("target.rev_size_mm", "at least 1 D and 10 elements", "as almen.rev_size_mm"),
-    ("almen.measure_size_mm", "at least 2 elements", "the profile averages over the region's elements"),
+    ("almen.measure_size_mm", "at least 2 elements (as almen.rev_size_mm)", "the profile averages over the region's elements"),
     ("target.measure_size_mm", "at least 2 elements", "as almen.measure_size_mm"),
 )
 
@@ -183,15 +191,22 @@ def _relative(s: dict, allowed: set[str]) -> list[Problem]:
     shot, fid = s.get("shot"), s.get("fidelity")
     if shot is None or fid is None:
         return out
-    d_mm, h_mm = shot.diameter_mm, fid.element_size_um * 1e-3
+    d_mm = shot.diameter_mm
     hint = '; to go beyond it on purpose, add "{}" to [study] allow_outside_bounds'
-    key = "fidelity.element_size_um"
-    if key not in allowed and h_mm > d_mm / 5.0:
-        out.append((key, fid.element_size_um, f"larger than D / 5 = {d_mm / 5 * 1e3:.4g} um for the "
-                    f"{shot.name} shot (dents of 0.2-0.26 D radius need at least one element across their radius)" + hint.format(key)))
-    if key not in allowed:
+    # every element size the study runs at: the strips also at the coarse level of an extrapolation
+    levels = [("fidelity.element_size_um", fid.element_size_um, False)]
+    coarse = getattr(fid, "extrapolate_intensity_from_um", None)
+    if coarse is not None and s.get("almen") is not None:
+        levels.append(("fidelity.extrapolate_intensity_from_um", coarse, True))
+    for key, h_um, strips_only in levels:
+        if key in allowed:
+            continue
+        h_mm = h_um * 1e-3
+        if h_mm > d_mm / 5.0:
+            out.append((key, h_um, f"larger than D / 5 = {d_mm / 5 * 1e3:.4g} um for the "
+                        f"{shot.name} shot (dents of 0.2-0.26 D radius need at least one element across their radius)" + hint.format(key)))
         worst = None
-        for velocities, mat, where in _impacts(s):
+        for velocities, mat, where in _impacts(s, strips_only):
             jc = mat.johnson_cook
             for v in velocities:
                 a = contact_radius_m(shot.radius_m, shot.density_kg_m3, v, mat.youngs_modulus_Pa,
@@ -201,31 +216,34 @@ def _relative(s: dict, allowed: set[str]) -> list[Problem]:
                     worst = (ratio, v, a, where)
         if worst is not None and worst[0] > ELEMENTS_PER_CONTACT_RADIUS_MAX:
             ratio, v, a, where = worst
-            out.append((key, fid.element_size_um, f"{ratio:.3g} estimated contact radii ({a * 1e6:.3g} um at "
+            out.append((key, h_um, f"{ratio:.3g} estimated contact radii ({a * 1e6:.3g} um at "
                         f"{v:g} m/s, {where}); the validated range is at most {ELEMENTS_PER_CONTACT_RADIUS_MAX:g} "
                         "(the stability sweep reaches 7.3: 1 m/s on 100 um, SAE 1070)" + hint.format(key)))
     for name in ("almen", "target"):
         sec = s.get(name)
         if sec is None:
             continue
+        # the strips' REV must hold the coarse level's elements too
+        h_um = max(h for _, h, strips_only in levels if name == "almen" or not strips_only)
+        h_mm = h_um * 1e-3
         rev, meas = getattr(sec, "rev_size_mm", None), getattr(sec, "measure_size_mm", None)
         k = f"{name}.rev_size_mm"
         if rev is not None and k not in allowed and (rev < d_mm or rev < 10 * h_mm):
-            out.append((k, rev, f"smaller than max(1 D = {d_mm:g} mm, 10 elements = {10 * h_mm:g} mm): a REV "
-                        "must hold a dent and a measuring region" + hint.format(k)))
+            out.append((k, rev, f"smaller than max(1 D = {d_mm:g} mm, 10 elements of {h_um:g} um = {10 * h_mm:g} mm): "
+                        "a REV must hold a dent and a measuring region" + hint.format(k)))
         k = f"{name}.measure_size_mm"
         if meas is not None and k not in allowed and meas < 2 * h_mm:
-            out.append((k, meas, f"smaller than 2 elements ({2 * h_mm:g} mm): nothing to average over"
+            out.append((k, meas, f"smaller than 2 elements of {h_um:g} um ({2 * h_mm:g} mm): nothing to average over"
                         + hint.format(k)))
     return out
 
 
-def _impacts(s: dict) -> Iterator[tuple[tuple, object, str]]:
-    """(velocities, material, where) of the impacts the study will run."""
+def _impacts(s: dict, strips_only: bool = False) -> Iterator[tuple[tuple, object, str]]:
+    """(velocities, material, where) of the impacts the study will run (``strips_only``: of the strips)."""
     almen, target = s.get("almen"), s.get("target")
     if almen is not None:
         yield almen.velocities_m_s, almen.strip.material, f"{almen.strip.name} strip"
-    if target is not None:
+    if target is not None and not strips_only:
         if target.velocity_m_s is not None:
             yield (target.velocity_m_s,), target.material, "target"
         elif almen is not None:  # read off the control curve, so inside the almen velocities

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Optional
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from .types import GradingRatio, NonNegative, OpenFraction, Positive, SafetyFactor, ShotScaled, check
 
@@ -27,6 +27,10 @@ REMOVED_KEYS = {
 }
 
 DEFAULT_PRESET = "standard"
+
+#: the smallest ratio of the coarse to the fine level of an intensity extrapolation: with order 1.85,
+#: 1.25 already multiplies the fine-minus-coarse difference by k = 1 / (1.25^1.85 - 1) = 1.9
+EXTRAPOLATION_RATIO_MIN = 1.25
 
 # Resolved values of every preset. "paper" is the paper's resolution (25 um
 # fine mesh) with no unmeasured shortcut (window off).
@@ -111,6 +115,14 @@ class Fidelity(ShotScaled):
     lateral_boundary: Literal["symmetric", "periodic"] = Field(
         description='lateral REV faces: "symmetric" (the paper) or "periodic"'
     )
+    extrapolate_intensity_from_um: Optional[Positive] = Field(
+        None, description="a coarser element size in um: the strips run at it too, with the same shot streams, and "
+                          "each Almen intensity is extrapolated to zero element size from the two levels "
+                          "(peenflow/methods/mesh_extrapolation.py); the control curve and the target velocity "
+                          "use the extrapolated intensities")
+    intensity_extrapolation_order: Optional[Positive] = Field(
+        None, description="the order p of I(h) = I0 + c h^p used by that extrapolation (default: the measured "
+                          "order of the strip references, peenflow.study.accuracy.INTENSITY_ORDER)")
 
     @model_validator(mode="after")
     def _one_depth(self) -> "Fidelity":
@@ -122,6 +134,33 @@ class Fidelity(ShotScaled):
                 "contact radii (a smaller window cuts into the plastic zone)"
             )
         return self
+
+    @field_validator("extrapolate_intensity_from_um")
+    @classmethod
+    def _coarser(cls, hc, info):
+        h = info.data.get("element_size_um")
+        if hc is not None and h is not None and not hc >= EXTRAPOLATION_RATIO_MIN * h:
+            raise ValueError(
+                f"expected a coarser level than element_size_um = {h:g} um, at least {EXTRAPOLATION_RATIO_MIN:g} x "
+                f"that = {EXTRAPOLATION_RATIO_MIN * h:g} um (closer levels amplify the sequences' noise in the "
+                "extrapolation)")
+        return hc
+
+    @field_validator("intensity_extrapolation_order")
+    @classmethod
+    def _order_needs_levels(cls, p, info):
+        if p is not None and info.data.get("extrapolate_intensity_from_um") is None:
+            raise ValueError("given without fidelity.extrapolate_intensity_from_um: set the coarse level, or "
+                             "delete the order")
+        return p
+
+    @property
+    def intensity_order(self) -> float:
+        """The order of the intensity extrapolation: the study's, or the measured one."""
+        from .accuracy import INTENSITY_ORDER
+
+        p = self.intensity_extrapolation_order
+        return INTENSITY_ORDER if p is None else p
 
     # SI helpers; the shot diameter is set by the Study after loading.
     @property

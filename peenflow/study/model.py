@@ -70,14 +70,23 @@ class Study(StudyModel):
         1.25 R each side, plus 2 elements) must fit in half a period."""
         if self.fidelity.lateral_boundary != "periodic":
             return self
-        need = 1.25 * self.shot.diameter_m + 4.0 * self.fidelity.element_size_m
+        coarse = self.fidelity.extrapolate_intensity_from_um
         for name, section in (("almen", self.almen), ("target", self.target)):
             size = getattr(section, "rev_size_mm", None) if section is not None else None
+            h_um = max(self.fidelity.element_size_um, coarse or 0.0) if name == "almen" else self.fidelity.element_size_um
+            need = 1.25 * self.shot.diameter_m + 4.0 * h_um * 1e-6
             if size is not None and size * 1e-3 <= need:
                 raise ValueError(
                     f'{name}.rev_size_mm = {size}: with fidelity.lateral_boundary = "periodic" the REV side must '
-                    f"exceed 1.25 D + 4 elements = {need * 1e3:.3g} mm (a shot's contact zone must fit in half "
-                    "a period)")
+                    f"exceed 1.25 D + 4 elements of {h_um:g} um = {need * 1e3:.3g} mm (a shot's contact zone must "
+                    "fit in half a period)")
+        return self
+
+    @model_validator(mode="after")
+    def _extrapolation_needs_strips(self) -> "Study":
+        if self.fidelity.extrapolate_intensity_from_um is not None and self.almen is None:
+            raise ValueError("fidelity.extrapolate_intensity_from_um extrapolates the Almen intensities of the "
+                             "[almen] strip runs, and this study has no [almen] section: add one, or delete the key")
         return self
 
     # --- identity --------------------------------------------------------

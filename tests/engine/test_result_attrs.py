@@ -36,3 +36,34 @@ def test_result_attrs_are_written_outside_keys_and_content(tmp_path):
     g2.result_attrs = {"fidelity_note": "x"}
     with pytest.raises(ValueError, match="must start with 'peenflow_'"):
         execute(g2, store, list(g2.nodes), reporter=Reporter(quiet=True))
+
+
+def test_stage_result_attrs_replace_the_graph_s_on_their_stage_only(tmp_path):
+    """A stage computed at another fidelity says so on its own results; the other stages keep the
+    graph's attrs, and keys do not change."""
+    import shutil
+
+    from peenflow.engine import DirectoryStore, Reporter, execute
+
+    d = tmp_path / "b"
+    d.mkdir()
+    shutil.copy(HERE / "toy_pipeline.py", d / "toy_pipeline.py")
+    study = d / "toy.toml"
+    study.write_text('[study]\nname = "attrs2"\npipeline = "toy_pipeline:build"\n\n[toy]\nn = 3\nfactors = [1, 2]\n'
+                     "steps = 1\n")
+    g = load_graph(study, "unused:unused")
+    g.result_attrs = {"peenflow_note": "graph", "peenflow_other": "kept"}
+    g.stage_result_attrs = {"total": {"peenflow_note": "stage"}}
+    store = DirectoryStore(d / ".peenflow")
+    execute(g, store, list(g.nodes), reporter=Reporter(quiet=True))
+    items = plan(g, store)
+    plain = plan(load_graph(study, "unused:unused"), store)  # no attrs: same keys, all reused
+    assert [i.key for i in plain] == [i.key for i in items] and all(i.state is State.DONE for i in plain)
+    for i in items:
+        attrs = store.open(i.node.task.name, i.key).attrs
+        assert attrs["peenflow_note"] == ("stage" if i.node.stage == "total" else "graph"), i.node.stage
+        assert attrs["peenflow_other"] == "kept"
+    assert {i.node.stage for i in items} - {"total"}  # the toy has other stages
+    g.stage_result_attrs = {"total": {"note": "x"}}
+    with pytest.raises(ValueError, match="must start with 'peenflow_'"):
+        execute(g, DirectoryStore(d / ".other"), list(g.nodes), reporter=Reporter(quiet=True))

@@ -2,6 +2,7 @@
 measured ones of BENCHMARKS.md 4c, it says when a size was not measured, and results and the
 headline carry it."""
 
+import json
 import re
 from pathlib import Path
 
@@ -89,14 +90,63 @@ def test_two_level_extrapolation_recovers_an_exact_power_law():
     data = {}
     for point, inf in limits.items():
         for h in (60.0, 40.0, 25.0, 16.0):
-            data[f"{point}/{h:g}"] = {"intensity_mm": inf - c * h**p, "cpu_s": 1.0}
+            # two sequences off the mean by -+ 0.004 mm at every level: paired, they cancel
+            i = inf - c * h**p
+            data[f"{point}/{h:g}"] = {"intensity_mm": i, "sequence_intensity_mm": [i - 0.004, i + 0.004],
+                                      "cpu_s": 1.0}
     for h in (40.0, 25.0):  # a target is required by the table; its values do not enter the strip errors
         data[f"al7075_30/{h:g}"] = {"full_coverage_shots": 100.0, "peak_MPa": -500.0, "zero_depth_mm": 0.4,
                                     "peak_depth_mm": 0.06, "z_mm": [0.05, 0.15], "sxx_MPa": [-500.0, 0.0],
                                     "cpu_s": 1.0}
     errors = study_level_errors(data)
     ext = errors["extrapolated"]
-    assert all(abs(o - p) < 1e-6 for o in ext["orders"].values())
+    assert all(abs(o - p) < 1e-6 for o in ext["orders"].values()) and abs(ext["order_all"] - p) < 1e-6
     assert max(map(abs, ext["intensity_pct"])) < 1e-6 and abs(ext["velocity_12a_pct"]) < 1e-6
     # while the 25 um level alone is low by c 25^p / I_inf
     assert errors[25.0]["intensity_pct"][0] < -0.5
+
+
+def test_the_extrapolated_numbers_and_the_order_are_the_measured_ones():
+    """STUDY_LEVEL_EXTRAPOLATED and INTENSITY_ORDER equal what the reference levels give by the
+    benchmark's rule (the studies' own formula, each point with the other points' mean order), to the
+    0.1 % and 0.01 they are rounded to."""
+    import sys
+
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from bench_presets import STRIP_POINTS, _levels, _two_level, intensity_order, study_level_errors
+
+    from peenflow.study.accuracy import INTENSITY_ORDER, STUDY_LEVEL_EXTRAPOLATED
+
+    data = json.loads((REPO / "benchmarks" / "reference" / "study_level.json").read_text())
+    strips = {p: _levels(data, p) for p in STRIP_POINTS}
+    assert round(intensity_order(strips), 2) == INTENSITY_ORDER
+    ref = study_level_errors(data)["reference"]
+    for (hc, hf), (lo, hi, v12a) in STUDY_LEVEL_EXTRAPOLATED.items():
+        row = _two_level(strips, ref["intensity_mm"], ref["velocity_12a_m_s"], hc, hf)
+        got = (round(row["intensity_pct"][0], 1), round(row["intensity_pct"][1], 1), round(row["velocity_12a_pct"], 1))
+        assert got == (lo, hi, v12a), (hc, hf, row)
+
+
+def test_an_extrapolating_study_states_the_extrapolation_s_error(tmp_path):
+    """The fidelity statement of a study that extrapolates 40 & 25 um: the measured extrapolated error;
+    one that gives its own order says the error was measured with the default one."""
+    from peenflow.study.accuracy import INTENSITY_ORDER, STUDY_LEVEL_EXTRAPOLATED
+
+    lo, hi, v12a = STUDY_LEVEL_EXTRAPOLATED[(40.0, 25.0)]
+    text = (REPO / "studies" / "paper_fast_25um.toml").read_text().replace(
+        "element_size_um = 25.0", "element_size_um = 25.0\nextrapolate_intensity_from_um = 40.0")
+    (tmp_path / "paper_fast.toml").write_text((REPO / "studies" / "paper_fast.toml").read_text())
+    p = tmp_path / "x.toml"
+    p.write_text(text)
+    s = statement(load_study(p).fidelity)
+    assert "extrapolated to zero element size from 40 and 25 um" in s["peenflow_fidelity"]
+    assert (f"Almen intensity {lo:+.1f} ... {hi:+.1f} %, velocity for 12A {v12a:+.1f} %"
+            in s["peenflow_fidelity_error"]) and "measured with order" not in s["peenflow_fidelity_error"]
+    p.write_text(text.replace("extrapolate_intensity_from_um = 40.0",
+                              "extrapolate_intensity_from_um = 40.0\nintensity_extrapolation_order = 2.0"))
+    s2 = statement(load_study(p).fidelity)
+    assert f"measured with order {INTENSITY_ORDER:g} where this study gives 2" in s2["peenflow_fidelity_error"]
+    coarse = statement(load_study(p).fidelity, element_size_um=40.0)
+    assert "40 um elements" in coarse["peenflow_fidelity"] and "coarse level" in coarse["peenflow_fidelity"]
+    lo40, hi40, v40 = STUDY_LEVEL[40.0]
+    assert f"Almen intensity {lo40:+.1f} ... {hi40:+.1f} %" in coarse["peenflow_fidelity_error"]

@@ -34,7 +34,7 @@ def test_the_issue_s_bad_values_are_refused_with_key_value_and_range(write_study
 def test_a_rev_smaller_than_one_element_is_refused(write_study):
     # 60 um coarse elements; a 0.05 mm REV used to fail with "math domain error" in coverage_curve
     found = _problems_for(write_study, {"target.rev_size_mm": 0.05}, "target.rev_size_mm")
-    assert found and "smaller than max(1 D = 0.58 mm, 10 elements = 0.6 mm)" in found[0]
+    assert found and "smaller than max(1 D = 0.58 mm, 10 elements of 60 um = 0.6 mm)" in found[0]
 
 
 def test_an_element_too_large_for_the_dent_is_refused(write_study):
@@ -88,6 +88,10 @@ def test_each_bound_refuses_just_outside_and_accepts_its_edges(write_study, boun
         if bound.key in ("almen.max_sequences", "almen.sequence_tolerance_mm"):  # adaptive sequences
             other = {"almen.sequence_tolerance_mm": 0.005} if name == "max_sequences" else {}
             return {"almen.sequences": 2, **other, bound.key: int(v) if name == "max_sequences" else v}
+        if bound.key == "fidelity.extrapolate_intensity_from_um":  # a coarser level than the study's 25 um
+            return {"fidelity.element_size_um": 25.0, bound.key: v}
+        if bound.key == "fidelity.intensity_extrapolation_order":
+            return {"fidelity.element_size_um": 25.0, "fidelity.extrapolate_intensity_from_um": 40.0, bound.key: v}
         if isinstance(bound.low, float) and name in ("sequences", "grid_points"):
             v = int(v)
         return {**extra, bound.key: [v] if listed else v}

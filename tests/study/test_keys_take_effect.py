@@ -89,6 +89,12 @@ CHANGES = {
     "Fidelity.settle_tolerance": ({}, {"fidelity.settle_tolerance": 1e-5}),
     "Fidelity.relaxation_tolerance": ({}, {"fidelity.relaxation_tolerance": 1e-7}),
     "Fidelity.lateral_boundary": (EXPLICIT_REVS, {"fidelity.lateral_boundary": "periodic"}),
+    # the base study is at 60 um: a coarser level, outside the validated range on purpose
+    "Fidelity.extrapolate_intensity_from_um": ({"fidelity.element_size_um": 25.0},
+                                               {"fidelity.extrapolate_intensity_from_um": 40.0}),
+    "Fidelity.intensity_extrapolation_order": ({"fidelity.element_size_um": 25.0,
+                                                "fidelity.extrapolate_intensity_from_um": 40.0},
+                                               {"fidelity.intensity_extrapolation_order": 2.0}),
     "Seeds.base": ({}, {"seeds.base": 8}),
     "Material.youngs_modulus_GPa": ({}, {f"{MAT}.youngs_modulus_GPa": 72.0}),
     "Material.poisson_ratio": ({}, {f"{MAT}.poisson_ratio": 0.32}),

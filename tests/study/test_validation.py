@@ -136,6 +136,19 @@ CASES = [
     ("periodic-rev-too-small", {"fidelity.lateral_boundary": "periodic", "target.rev_size_mm": 0.5},
      ['target.rev_size_mm = 0.5: with fidelity.lateral_boundary = "periodic" the REV side must exceed']),
     ("nothing-to-compute", {"almen": DELETE, "target": DELETE}, ["nothing to compute: add an [almen] section"]),
+    ("extrapolation-level-not-coarser", {"fidelity.element_size_um": 25.0, "fidelity.extrapolate_intensity_from_um": 30.0},
+     ["fidelity.extrapolate_intensity_from_um = 30.0: expected a coarser level than element_size_um = 25 um, "
+      "at least 1.25 x that = 31.25 um"]),
+    ("extrapolation-without-almen", {"almen": DELETE, "target.almen_intensity": DELETE, "target.velocity_m_s": 47.0,
+                                     "fidelity.element_size_um": 25.0, "fidelity.extrapolate_intensity_from_um": 40.0},
+     ["fidelity.extrapolate_intensity_from_um extrapolates the Almen intensities", "no [almen] section"]),
+    ("extrapolation-order-alone", {"fidelity.intensity_extrapolation_order": 2.0},
+     ["fidelity.intensity_extrapolation_order = 2.0: given without fidelity.extrapolate_intensity_from_um"]),
+    ("extrapolation-coarse-rev", {"fidelity.element_size_um": 25.0, "fidelity.extrapolate_intensity_from_um": 40.0,
+                                  "fidelity.lateral_boundary": "periodic", "almen.rev_rule": "explicit",
+                                  "almen.rev_size_mm": 0.85, "target.rev_size_mm": 1.2},
+     ['almen.rev_size_mm = 0.85: with fidelity.lateral_boundary = "periodic" the REV side must exceed 1.25 D + 4 '
+      "elements of 40 um"]),
 ]
 
 
