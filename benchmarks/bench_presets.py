@@ -53,7 +53,30 @@ PRESET_OF = {60.0: "coarse", 40.0: "standard", 25.0: "paper"}
 
 def _levels(data: dict, point: str) -> dict[float, dict]:
     return {float(k.split("/")[1]): v for k, v in data.items()
-            if k.startswith(point + "/") and "@" not in k.split("/")[1]}
+            if k.startswith(point + "/") and not set(k.split("/")[1]) & set("@s")}
+
+
+def _target_levels(data: dict) -> dict[float, dict]:
+    """The target's levels, each on the first n sequences, n the fewest any level ran (a level
+    ``HsN`` runs only the first N: the same shot streams as every level's first N, so the levels
+    compare paired); the profile figures recomputed from those sequences' mean profile."""
+    from bench_reference import _parse_level, profile_metrics
+
+    by_h: dict[float, dict] = {}
+    for k, v in data.items():
+        if k.startswith(TARGET + "/"):
+            h, side, _ = _parse_level(k.split("/")[1])
+            if side is None and len(v.get("sequence_sxx_MPa", [])) > len(by_h.get(h, {}).get("sequence_sxx_MPa", [])):
+                by_h[h] = v
+    if not by_h:
+        return {}
+    n = min(len(v["sequence_sxx_MPa"]) for v in by_h.values())
+    out = {}
+    for h, v in by_h.items():
+        mean = np.mean(np.asarray(v["sequence_sxx_MPa"][:n]), axis=0)
+        z = np.asarray(v["z_mm"])
+        out[h] = {**v, **profile_metrics(z * 1e-3, mean * 1e6), "sxx_MPa": mean.tolist(), "sequences_compared": n}
+    return out
 
 
 #: Richardson only from levels down to this size: from 60 / 40 / 25 um alone the strip intensities
@@ -95,7 +118,7 @@ def study_level_errors(data: dict | None = None) -> dict[float, dict]:
     and the references themselves under ``"reference"``."""
     data = json.loads(OUT.read_text()) if data is None else data
     strips = {p: _levels(data, p) for p in STRIP_POINTS}
-    target = _levels(data, TARGET)
+    target = _target_levels(data)
     sizes = sorted(set.intersection(*(set(v) for v in strips.values())), reverse=True)
     ref_i = {p: _reference({h: v["intensity_mm"] for h, v in lv.items()}) for p, lv in strips.items()}
     ref_v = velocity_12a({vel: ref_i[p] for vel, p in CURVE.items()})

@@ -8,7 +8,9 @@ Usage (from the repository root)::
 
 A LEVEL is an element size in um (``25``), or an element size and a REV side in mm
 (``60@2.4``: the same point on a larger periodic REV, measured over its whole face:
-the REV-size convergence of issue 10 §3).
+the REV-size convergence of issue 10 §3), or for the target an element size and a
+number of sequences (``16s1``: its first sequence only -- the same shot stream as
+every level's first sequence, so the levels compare paired on it at half the cost).
 
 POINT is a study file stem under ``benchmarks/reference/studies/``: a strip point
 (``strip_90_55``, ``strip_67_25``/``30``/``35``) or the §5 target (``al7075_30``: a study
@@ -55,28 +57,35 @@ OUT = ROOT / "benchmarks" / "reference" / "study_level.json"
 PROFILE_DEPTH_M = 0.5e-3
 
 
-def _parse_level(text: str) -> tuple[float, float | None]:
+def _parse_level(text: str) -> tuple[float, float | None, int | None]:
+    """``H`` | ``H@SIDE`` | ``HsN`` -> (element size um, REV side mm or None, target sequences or None)."""
+    text, _, seqs = text.partition("s")
     h, _, side = text.partition("@")
-    return float(h), (float(side) if side else None)
+    return float(h), (float(side) if side else None), (int(seqs) if seqs else None)
 
 
-def _level_name(h_um: float, side_mm: float | None) -> str:
-    return f"{h_um:g}" if side_mm is None else f"{h_um:g}@{side_mm:g}"
+def _level_name(h_um: float, side_mm: float | None, sequences: int | None = None) -> str:
+    name = f"{h_um:g}" if side_mm is None else f"{h_um:g}@{side_mm:g}"
+    return name if sequences is None else f"{name}s{sequences}"
 
 
-def _level_study(point: str, h_um: float, side_mm: float | None = None) -> Path:
+def _level_study(point: str, h_um: float, side_mm: float | None = None, sequences: int | None = None) -> Path:
     text = (STUDIES / f"{point}.toml").read_text()
-    lines = []
+    lines, section = [], ""
     for ln in text.splitlines():
         key = ln.split("#")[0].strip()
+        if key.startswith("["):
+            section = key
         if key.startswith("element_size_um"):
             ln = f"element_size_um = {h_um!r}"
         elif side_mm is not None and key.startswith(("rev_size_mm", "measure_size_mm")):
             ln = f"{key.split('=')[0].strip()} = {side_mm!r}"
+        elif sequences is not None and section == "[target]" and key.startswith("sequences"):
+            ln = f"sequences = {sequences}"  # a level of the first N sequences only (paired with the others')
         lines.append(ln)
     d = STORE / point
     d.mkdir(parents=True, exist_ok=True)
-    path = d / f"h{_level_name(h_um, side_mm)}.toml"
+    path = d / f"h{_level_name(h_um, side_mm, sequences)}.toml"
     new = "\n".join(lines) + "\n"
     if not path.exists() or path.read_text() != new:
         path.write_text(new)
@@ -172,8 +181,8 @@ def _is_target(point: str) -> bool:
 
 def run(point: str, levels: list[str]) -> None:
     for level in levels:
-        h, side = _parse_level(level)
-        study = _level_study(point, h, side)
+        h, side, seqs = _parse_level(level)
+        study = _level_study(point, h, side, seqs)
         t0, c0 = time.time(), resource.getrusage(resource.RUSAGE_CHILDREN)
         target = _is_target(point)
         cmd = [sys.executable, "-m", "peenflow.cli", "run", str(study),
@@ -187,7 +196,7 @@ def run(point: str, levels: list[str]) -> None:
             print(f"level {level} did not finish (rc {proc.returncode}); run again to resume")
             return
         entry = _collect_target(study) if target else _collect(study)
-        key = f"{point}/{_level_name(h, side)}"
+        key = f"{point}/{_level_name(h, side, seqs)}"
         prev = (json.loads(OUT.read_text()) if OUT.exists() else {}).get(key, {})
         # CPU of this call; a resumed level keeps the sum of its calls
         cpu = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)

@@ -1,7 +1,8 @@
 """The figures a run writes (PNG, matplotlib), from whatever stages are done.
 
 * ``saturation.png``      arc height vs shot number, per angle and velocity, with the fits (paper Fig. 16)
-* ``control_curves.png``  Almen intensity vs velocity per angle, spread over sequences (Fig. 17)
+* ``control_curves.png``  Almen intensity vs velocity per angle, spread over sequences (Fig. 17); with an
+  intensity extrapolation, the two levels' intensities beside the extrapolated ones
 * ``coverage.png``        Monte-Carlo coverage, eq. (5) fit, closed form, N_f (Fig. 18)
 * ``residual_stress.png`` σx, σy vs depth with the spread over sequences, and the measured profile (Fig. 19)
 
@@ -101,6 +102,7 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
         save(fig, "saturation.png")
 
     control = _result(graph, store, "control_curve")
+    ext = _result(graph, store, "intensity_extrapolation")
     if control is not None:
         fig, ax = plt.subplots(figsize=(6.5, 4.5))
         n_seq = _sequences(sat) if sat is not None else 1
@@ -109,6 +111,15 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
             line = ax.errorbar(c.velocity_m_s, c.intensity_m / MM, yerr=np.nan_to_num(c.intensity_std_m) / MM,
                                fmt="o", capsize=3, label=f"{a:g} deg")
             ax.plot(c.velocity_fine_m_s, c.curve_intensity_m / MM, "-", color=line[0].get_color())
+            if ext is not None:  # the two levels the intensities were extrapolated from
+                e = ext.sel(angle_deg=a)
+                ax.plot(e.velocity_m_s, e.fine_intensity_m / MM, "v", mfc="none", color=line[0].get_color())
+                ax.plot(e.velocity_m_s, e.coarse_intensity_m / MM, "x", color=line[0].get_color())
+        if ext is not None:
+            hc, hf = ext.attrs["coarse_element_size_m"] / 1e-6, ext.attrs["fine_element_size_m"] / 1e-6
+            ax.plot([], [], "ko", label=f"extrapolated to zero element size (order {ext.attrs['order']:g})")
+            ax.plot([], [], "kv", mfc="none", label=f"{hf:g} um level")
+            ax.plot([], [], "kx", label=f"{hc:g} um level")
         title = f"control curves, {strip}"
         tv = _result(graph, store, "target_velocity")
         if tv is not None and "intensity_m" in tv:

@@ -97,6 +97,7 @@ def test_two_level_extrapolation_recovers_an_exact_power_law():
     for h in (40.0, 25.0):  # a target is required by the table; its values do not enter the strip errors
         data[f"al7075_30/{h:g}"] = {"full_coverage_shots": 100.0, "peak_MPa": -500.0, "zero_depth_mm": 0.4,
                                     "peak_depth_mm": 0.06, "z_mm": [0.05, 0.15], "sxx_MPa": [-500.0, 0.0],
+                                    "sequence_sxx_MPa": [[-500.0, 0.0]],
                                     "cpu_s": 1.0}
     errors = study_level_errors(data)
     ext = errors["extrapolated"]

@@ -57,3 +57,31 @@ def test_residual_stress_figure_says_what_it_shows(tmp_path, monkeypatch):
     notes = " ".join(t.get_text() for t in ax.texts)
     assert "surface -422 MPa" in notes and "peak -450 MPa at 0.150 mm" in notes
     assert any("compressive to" in t.get_text() for t in ax.get_legend().get_texts())
+
+
+def test_control_curve_figure_shows_both_levels_of_an_extrapolation(tmp_path, monkeypatch):
+    """With an intensity extrapolation the figure plots the extrapolated intensities and, beside them,
+    each level's (at their values) and names the levels and the order in the legend."""
+    import matplotlib.pyplot as plt
+
+    v = np.array([25.0, 35.0])
+    dims = ("angle_deg", "velocity_m_s")
+    control = xr.Dataset(
+        {"intensity_m": (dims, [[0.30e-3, 0.36e-3]]), "intensity_std_m": (dims, [[0.0, 0.0]]),
+         "curve_intensity_m": (("angle_deg", "velocity_fine_m_s"), [[0.30e-3, 0.36e-3]])},
+        coords={"angle_deg": [67.5], "velocity_m_s": v, "velocity_fine_m_s": v})
+    ext = xr.Dataset({"fine_intensity_m": (dims, [[0.285e-3, 0.347e-3]]),
+                      "coarse_intensity_m": (dims, [[0.266e-3, 0.331e-3]])},
+                     coords={"angle_deg": [67.5], "velocity_m_s": v},
+                     attrs={"coarse_element_size_m": 40e-6, "fine_element_size_m": 25e-6, "order": 1.85})
+    results = {"control_curve": control, "intensity_extrapolation": ext}
+    monkeypatch.setattr(plots, "_result", lambda graph, store, stage: results.get(stage))
+    figures = []
+    monkeypatch.setattr(plt.Figure, "savefig", lambda self, *a, **k: figures.append(self))
+    plots.write_plots(None, None, tmp_path)
+    (ax,) = figures[0].axes
+    ys = [np.round(np.asarray(line.get_ydata(), float), 4).tolist() for line in ax.get_lines()]
+    assert [0.285, 0.347] in ys and [0.266, 0.331] in ys
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "25 um level" in labels and "40 um level" in labels
+    assert any("extrapolated to zero element size (order 1.85)" in t for t in labels)
