@@ -8,18 +8,24 @@ from peenflow.engine import load_graph, plan
 from peenflow.engine.reasons import State
 
 
-def test_result_attrs_are_written_outside_keys_and_content(tmp_path):
+def _toy_study(d, name):
+    """The engine tests' toy pipeline as a study in ``d``."""
     import shutil
 
+    d.mkdir()
+    shutil.copy(HERE / "toy_pipeline.py", d / "toy_pipeline.py")
+    study = d / "toy.toml"
+    study.write_text(f'[study]\nname = "{name}"\npipeline = "toy_pipeline:build"\n\n[toy]\nn = 3\nfactors = [1, 2]\n'
+                     "steps = 1\n")
+    return study
+
+
+def test_result_attrs_are_written_outside_keys_and_content(tmp_path):
     from peenflow.engine import DirectoryStore, Reporter, execute
     from peenflow.engine.content import dataset_content_hash as dataset_hash
 
     d = tmp_path / "a"
-    d.mkdir()
-    shutil.copy(HERE / "toy_pipeline.py", d / "toy_pipeline.py")
-    study = d / "toy.toml"
-    study.write_text('[study]\nname = "attrs"\npipeline = "toy_pipeline:build"\n\n[toy]\nn = 3\nfactors = [1, 2]\n'
-                     "steps = 1\n")
+    study = _toy_study(d, "attrs")
     g1 = load_graph(study, "unused:unused")
     g1.result_attrs = {"peenflow_fidelity_note": "measured: 1 %"}
     store = DirectoryStore(d / ".peenflow")
@@ -41,16 +47,10 @@ def test_result_attrs_are_written_outside_keys_and_content(tmp_path):
 def test_stage_result_attrs_replace_the_graph_s_on_their_stage_only(tmp_path):
     """A stage computed at another fidelity says so on its own results; the other stages keep the
     graph's attrs, and keys do not change."""
-    import shutil
-
     from peenflow.engine import DirectoryStore, Reporter, execute
 
     d = tmp_path / "b"
-    d.mkdir()
-    shutil.copy(HERE / "toy_pipeline.py", d / "toy_pipeline.py")
-    study = d / "toy.toml"
-    study.write_text('[study]\nname = "attrs2"\npipeline = "toy_pipeline:build"\n\n[toy]\nn = 3\nfactors = [1, 2]\n'
-                     "steps = 1\n")
+    study = _toy_study(d, "attrs2")
     g = load_graph(study, "unused:unused")
     g.result_attrs = {"peenflow_note": "graph", "peenflow_other": "kept"}
     g.stage_result_attrs = {"total": {"peenflow_note": "stage"}}
