@@ -1,25 +1,24 @@
-"""Issue 10 §4: the whole paper's control curves at 40 and 25 um and their paired two-level extrapolation
-(prints its figures; not a test).
+"""Issue 10 §4: the whole paper's control curves extrapolated to zero element size, against the
+converged references (prints its figures; not a test).
 
-Usage (from the repository root, after both studies have run into ``studies/.peenflow``)::
+Usage (from the repository root)::
 
-    peenflow run studies/paper_fast.toml --workers 2 --threads 1
-    peenflow run studies/paper_fast_25um.toml --workers 2 --threads 1
+    peenflow run studies/paper_fast_extrapolated.toml --workers 2 --threads 1
     PYTHONPATH=. python benchmarks/bench_whole_paper.py
 
-The two studies use the same seeds, so every (angle, velocity) point sees the same
-shot streams at both element sizes (as far as the adaptive sequences rule gave
-both the same number of sequences; the rule may give one more to one of them).
-Per point, ``I = I25 + (I25 - I40) 25^p / (40^p - 25^p)`` with ``p`` the mean
-Richardson order of the study-level reference points (``bench_presets``: 1.72-2.0,
-BENCHMARKS.md §9); the velocity for 12A on each angle's curve by the
-``target_velocity`` stage's PCHIP inverse; the 67.5 deg result beside the converged
-reference's 12A velocity (PCHIP through its 25 / 30 / 35 m/s points).
+The study runs every strip point at 40 and 25 um with the same seeds and extrapolates each
+intensity (stage ``intensity_extrapolation``, fidelity.extrapolate_intensity_from_um); this
+script reads that stage and prints, per (angle, velocity), the two levels and the extrapolated
+intensity with the number of sequences each level ran; the velocity for 12A per angle from
+each level's curve and from the extrapolated one (the ``target_velocity`` stage's PCHIP inverse);
+and, where the study's points coincide with the study-level reference points (67.5 deg at 25 and
+35 m/s, 90 deg at 55 m/s; BENCHMARKS.md §9), each intensity's error, and the 67.5 deg 12A
+velocity's error against the converged one (PCHIP through the references' 25 / 30 / 35 m/s).
+The study's seeds differ from the references', so these errors include the sequences' sampling.
 """
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
@@ -27,53 +26,51 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
-from bench_presets import INTENSITY_12A_MM, OUT, STRIP_POINTS, _levels, reference_orders, study_level_errors  # noqa: E402
-from bench_reference import _results, extrapolate  # noqa: E402
+from bench_presets import INTENSITY_12A_MM, study_level_errors  # noqa: E402
+from bench_reference import _results  # noqa: E402
 
-STUDIES = {40.0: ROOT / "studies" / "paper_fast.toml", 25.0: ROOT / "studies" / "paper_fast_25um.toml"}
-
-
-def _intensities(study: Path):
-    (sat,) = _results(study, "saturation")
-    mm = sat.intensity_m.transpose("angle_deg", "velocity_m_s") * 1e3
-    return (np.asarray(sat.angle_deg, float), np.asarray(sat.velocity_m_s, float), np.asarray(mm),
-            np.asarray(sat.sequence_intensity_m.count("sequence").transpose("angle_deg", "velocity_m_s")))
-
-
-def mean_order() -> float:
-    """Mean Richardson order of the study-level reference points' intensities."""
-    data = json.loads(OUT.read_text())
-    return float(np.mean(list(reference_orders({p: _levels(data, p) for p in STRIP_POINTS}).values())))
+STUDY = ROOT / "studies" / "paper_fast_extrapolated.toml"
+#: (angle deg, velocity m/s) of the reference points the study's grid contains
+REFERENCE_POINTS = {(67.5, 25.0): "strip_67_25", (67.5, 35.0): "strip_67_35", (90.0, 55.0): "strip_90_55"}
 
 
 def main() -> None:
     from peenflow.methods.control_curve import ControlCurve
 
-    (angles, vel, i40, n40), (_, vel25, i25, n25) = (_intensities(STUDIES[h]) for h in (40.0, 25.0))
-    assert np.array_equal(vel, vel25)
-    p = mean_order()
-    k = 25.0**p / (40.0**p - 25.0**p)
-    ext = extrapolate(i40, i25, 40.0, 25.0, p)
-    ref_v = study_level_errors()["reference"]["velocity_12a_m_s"]
-    print(f"order p = {p:.3f} (mean of the reference points' Richardson orders); factor {k:.3f}")
-    print("\n| angle | velocity m/s | 40 um mm (seq.) | 25 um mm (seq.) | extrapolated mm |")
-    print("|---|---|---|---|---|")
+    ext, fine, coarse = _results(STUDY, "intensity_extrapolation", "saturation", "coarse_saturation")
+    dims = ("angle_deg", "velocity_m_s")
+    angles = np.asarray(ext.angle_deg, float)
+    vel = np.asarray(ext.velocity_m_s, float)
+    levels = {"40 um": np.asarray(ext.coarse_intensity_m.transpose(*dims)) * 1e3,
+              "25 um": np.asarray(ext.fine_intensity_m.transpose(*dims)) * 1e3,
+              "extrapolated": np.asarray(ext.intensity_m.transpose(*dims)) * 1e3}
+    seqs = {k: np.asarray(ds.sequence_intensity_m.count("sequence").transpose(*dims)) for k, ds in
+            (("40 um", coarse), ("25 um", fine))}
+    refs = study_level_errors()["reference"]
+    ref_v = refs["velocity_12a_m_s"]
+    print(f"{ext.attrs['extrapolation']}; factor {ext.attrs['extrapolation_factor']:.3f}")
+    print("\n| angle | velocity m/s | 40 um mm (seq.) | 25 um mm (seq.) | extrapolated mm | reference mm | error % |")
+    print("|---|---|---|---|---|---|---|")
     for a, ang in enumerate(angles):
         for v, vv in enumerate(vel):
-            print(f"| {ang:g} | {vv:g} | {i40[a, v]:.4f} ({n40[a, v]}) | {i25[a, v]:.4f} ({n25[a, v]}) | "
-                  f"{ext[a, v]:.4f} |")
+            point = REFERENCE_POINTS.get((float(ang), float(vv)))
+            ref = f"{refs['intensity_mm'][point]:.4f}" if point else "-"
+            err = f"{100 * (levels['extrapolated'][a, v] / refs['intensity_mm'][point] - 1):+.1f}" if point else "-"
+            print(f"| {ang:g} | {vv:g} | {levels['40 um'][a, v]:.4f} ({seqs['40 um'][a, v]}) | "
+                  f"{levels['25 um'][a, v]:.4f} ({seqs['25 um'][a, v]}) | {levels['extrapolated'][a, v]:.4f} | "
+                  f"{ref} | {err} |")
     print("\nvelocity for 12A (0.30 mm) per angle:")
     for a, ang in enumerate(angles):
-        vs = []
-        for curve in (i40[a], i25[a], ext[a]):
+        vs = {}
+        for name, table in levels.items():
             try:
-                vs.append(float(ControlCurve(ang, vel, curve * 1e-3).velocity(INTENSITY_12A_MM * 1e-3)))
+                vs[name] = float(ControlCurve(ang, vel, table[a] * 1e-3).velocity(INTENSITY_12A_MM * 1e-3))
             except ValueError:
-                vs.append(float("nan"))
-        line = f"  {ang:g} deg: 40 um {vs[0]:.2f}, 25 um {vs[1]:.2f}, extrapolated {vs[2]:.2f} m/s"
+                vs[name] = float("nan")
+        line = f"  {ang:g} deg: " + ", ".join(f"{k} {x:.2f}" for k, x in vs.items()) + " m/s"
         if abs(ang - 67.5) < 1e-9:
-            line += (f"; converged reference {ref_v:.2f} m/s: " +
-                     ", ".join(f"{100 * (x / ref_v - 1):+.1f} %" for x in vs))
+            line += (f"; converged reference {ref_v:.2f} m/s: "
+                     + ", ".join(f"{k} {100 * (x / ref_v - 1):+.1f} %" for k, x in vs.items()))
         print(line)
 
 

@@ -12,7 +12,7 @@ from peenflow.study import load_study, validate_study
 from tasks.params import study_params
 
 STUDIES = Path(__file__).resolve().parents[2] / "studies"
-SHIPPED = ["quickstart.toml", "paper_almen_s230.toml", "paper_al7075.toml"]
+SHIPPED = sorted(p.name for p in STUDIES.glob("*.toml"))
 
 
 @pytest.mark.parametrize("name", SHIPPED)
@@ -86,3 +86,19 @@ def test_quickstart_is_coarse_and_runs_the_whole_chain():
     assert s.target.intensity_mm is not None and s.target.velocity_m_s is None  # velocity from the curve
     assert s.target.material.name == "Al7075-T73"
     assert math.isfinite(s.target.material.dilatational_wave_speed_m_s)
+
+
+def test_the_extrapolated_whole_paper_is_the_40_and_25_um_studies_levels():
+    """paper_fast_extrapolated.toml runs the strips of paper_fast_25um.toml (25 um) and of
+    paper_fast.toml (40 um) -- the same parameters, so the same keys and shot streams -- and
+    extrapolates from them with the measured order."""
+    from peenflow.study.accuracy import INTENSITY_ORDER
+
+    g = peenflow.api.load_study_graph(STUDIES / "paper_fast_extrapolated.toml")
+    for stage, other in (("strip_runs", "paper_fast_25um.toml"), ("coarse_strip_runs", "paper_fast.toml")):
+        mine = {n.node_id.split("[", 1)[1]: n.params for n in g.stage_nodes(stage)}
+        theirs = {n.node_id.split("[", 1)[1]: n.params
+                  for n in peenflow.api.load_study_graph(STUDIES / other).stage_nodes("strip_runs")}
+        assert len(mine) == 24 and mine == theirs, stage
+    (e,) = {canon["extrapolation"]["order"] for canon in (n.params for n in g.stage_nodes("intensity_extrapolation"))}
+    assert e == INTENSITY_ORDER
