@@ -41,15 +41,19 @@ def _crossing(z: np.ndarray, s: np.ndarray, level: float) -> float | None:
 def compressive_depth(z: np.ndarray, s: np.ndarray) -> tuple[float | None, str]:
     """(depth, how) of the compressive layer of a profile compressive at the surface.
 
-    The first zero crossing; without one (a held REV has no balancing tension),
-    where ``s`` rises above ``VANISHING_FRACTION`` of its peak compression.
+    The first zero crossing, where tension of more than ``VANISHING_FRACTION`` of the peak
+    compression follows it; without one (a held REV has no balancing tension, and its
+    profile reaches zero through round-off of either sign), where ``s`` rises above
+    ``VANISHING_FRACTION`` of its peak compression.
     """
     if s[0] >= 0:
         return None, "not compressive at the surface"
-    zero = _crossing(z, s, 0.0)
-    if zero is not None:
-        return zero, "first zero crossing of the mean"
     level = VANISHING_FRACTION * float(np.min(s))
+    zero = _crossing(z, s, 0.0)
+    # a crossing counts only where real tension follows (more than the same fraction of the peak):
+    # a held REV's profile decays to zero through round-off of either sign
+    if zero is not None and float(np.max(s[z > zero])) > -level:
+        return zero, "first zero crossing of the mean"
     return _crossing(z, s, level), (f"no tension in the held REV: where the mean rises above "
                                     f"{VANISHING_FRACTION:.0%} of its peak")
 

@@ -72,3 +72,16 @@ def test_compressive_depth_is_the_zero_crossing_or_where_a_held_profile_fades():
     # never tensile: where it rises above 5 % of the -400 peak, i.e. -20, between -100 and -10
     depth, how = compressive_depth(z, np.array([-300.0, -400.0, -100.0, -10.0]))
     assert abs(depth - (0.3 + 0.1 * 80.0 / 90.0)) < 1e-12 and "held REV" in how
+
+
+def test_a_crossing_through_round_off_is_not_a_zero_crossing():
+    """A held REV's profile that reaches zero through round-off of either sign (+0.2 MPa after a
+    -500 MPa peak) fades where it rises above 5 % of the peak, not at the round-off crossing."""
+    from tasks.headline import compressive_depth
+
+    z = np.array([0.1, 0.2, 0.3, 0.4, 0.5])
+    depth, how = compressive_depth(z, np.array([-400.0, -500.0, -100.0, -5.0, 0.2]))
+    assert abs(depth - (0.3 + 0.1 * 75.0 / 95.0)) < 1e-12 and "held REV" in how
+    # real tension beyond the crossing (+40 MPa > 5 % of 500) keeps the zero crossing
+    depth, how = compressive_depth(z, np.array([-400.0, -500.0, -100.0, 40.0, 10.0]))
+    assert abs(depth - (0.3 + 0.1 * 100.0 / 140.0)) < 1e-12 and "zero crossing" in how
