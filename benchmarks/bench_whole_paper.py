@@ -26,7 +26,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
-from bench_presets import INTENSITY_12A_MM, study_level_errors  # noqa: E402
+from bench_presets import study_level_errors, velocity_12a  # noqa: E402
 from bench_reference import _results  # noqa: E402
 
 STUDY = ROOT / "studies" / "paper_fast_extrapolated.toml"
@@ -35,8 +35,6 @@ REFERENCE_POINTS = {(67.5, 25.0): "strip_67_25", (67.5, 35.0): "strip_67_35", (9
 
 
 def main() -> None:
-    from peenflow.methods.control_curve import ControlCurve
-
     ext, fine, coarse = _results(STUDY, "intensity_extrapolation", "saturation", "coarse_saturation")
     dims = ("angle_deg", "velocity_m_s")
     angles = np.asarray(ext.angle_deg, float)
@@ -63,8 +61,8 @@ def main() -> None:
     for a, ang in enumerate(angles):
         vs = {}
         for name, table in levels.items():
-            try:
-                vs[name] = float(ControlCurve(ang, vel, table[a] * 1e-3).velocity(INTENSITY_12A_MM * 1e-3))
+            try:  # the target_velocity stage's PCHIP inverse (the angle does not enter it)
+                vs[name] = velocity_12a(dict(zip(vel.tolist(), table[a].tolist())))
             except ValueError:
                 vs[name] = float("nan")
         line = f"  {ang:g} deg: " + ", ".join(f"{k} {x:.2f}" for k, x in vs.items()) + " m/s"

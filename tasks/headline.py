@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import MM, MPA
+from ._common import MM, MPA, UM
 from .plots import _result
 
 
@@ -70,6 +70,8 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
 
     control = get("control_curve")
     ext = get("intensity_extrapolation")
+    if ext is not None:
+        hc, hf = ext.attrs["coarse_element_size_m"] / UM, ext.attrs["fine_element_size_m"] / UM
     if control is not None:
         for a in control.angle_deg.values:
             for v in control.velocity_m_s.values:
@@ -82,7 +84,6 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
                     note += ", beyond the ladder (extrapolated)"
                 if ext is not None:
                     e = ext.sel(angle_deg=a, velocity_m_s=v)
-                    hc, hf = ext.attrs["coarse_element_size_m"] / 1e-6, ext.attrs["fine_element_size_m"] / 1e-6
                     note += (f"; to zero element size from {float(e.fine_intensity_m) / MM:.3f} mm at {hf:g} um and "
                              f"{float(e.coarse_intensity_m) / MM:.3f} mm at {hc:g} um "
                              f"(correction {_pm(float(e.mesh_correction_m) / MM, float(e.mesh_correction_standard_error_m) / MM, 'mm')})")

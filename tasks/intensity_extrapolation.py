@@ -36,7 +36,7 @@ def intensity_extrapolation(fine: xr.Dataset, coarse: xr.Dataset, *, extrapolati
     c = paired_correction(*per, e.coarse_element_size_m, e.fine_element_size_m, e.order)
     i_fine = float(fine.intensity_m)
     # eq. (11) outside the ladder at either level makes the extrapolated value as uncertain
-    beyond = int(int(fine.intensity_extrapolated) or int(coarse.intensity_extrapolated))
+    beyond = max(int(fine.intensity_extrapolated), int(coarse.intensity_extrapolated))
     return xr.Dataset(
         {
             "intensity_m": var(i_fine + c.correction, (), "m",

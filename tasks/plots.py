@@ -22,7 +22,7 @@ import numpy as np
 
 from peenflow.engine import ResultNotReady, stage_result
 
-from ._common import MM, MPA
+from ._common import MM, MPA, UM
 
 
 def _result(graph, store, stage):
@@ -116,7 +116,7 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
                 ax.plot(e.velocity_m_s, e.fine_intensity_m / MM, "v", mfc="none", color=line[0].get_color())
                 ax.plot(e.velocity_m_s, e.coarse_intensity_m / MM, "x", color=line[0].get_color())
         if ext is not None:
-            hc, hf = ext.attrs["coarse_element_size_m"] / 1e-6, ext.attrs["fine_element_size_m"] / 1e-6
+            hc, hf = ext.attrs["coarse_element_size_m"] / UM, ext.attrs["fine_element_size_m"] / UM
             ax.plot([], [], "ko", label=f"extrapolated to zero element size (order {ext.attrs['order']:g})")
             ax.plot([], [], "kv", mfc="none", label=f"{hf:g} um level")
             ax.plot([], [], "kx", label=f"{hc:g} um level")

@@ -72,18 +72,18 @@ STUDY_LEVEL_EXTRAPOLATED: dict[tuple[float, float], tuple[float, float, float]] 
 }
 
 
+def _same(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-9 * max(abs(a), abs(b))
+
+
 def single_impact_error(element_size_um: float) -> str | None:
     """The measured single-impact error at this element size as one sentence, or None if not measured."""
     for h, (dent, peak, zero, rest, rms) in SINGLE_IMPACT.items():
-        if abs(h - element_size_um) <= 1e-9 * h:
+        if _same(h, element_size_um):
             return (f"single impact at {h:g} um (worst of 4 cases, {SINGLE_IMPACT_SOURCE}): dent depth "
                     f"<= {dent:g} %, sigma_xx peak <= {peak:g} %, zero crossing <= {zero:g} %, "
                     f"restitution <= {rest:g}, sigma_xx(z) RMS <= {rms:g} % of the peak")
     return None
-
-
-def _same(a: float, b: float) -> bool:
-    return abs(a - b) <= 1e-9 * max(abs(a), abs(b))
 
 
 def study_level_error(element_size_um: float, extrapolated_from_um: float | None = None,

@@ -224,7 +224,7 @@ def _relative(s: dict, allowed: set[str]) -> list[Problem]:
         if sec is None:
             continue
         # the strips' REV must hold the coarse level's elements too
-        h_um = max(h for _, h, strips_only in levels if name == "almen" or not strips_only)
+        h_um = fid.strip_element_size_um if name == "almen" else fid.element_size_um
         h_mm = h_um * 1e-3
         rev, meas = getattr(sec, "rev_size_mm", None), getattr(sec, "measure_size_mm", None)
         k = f"{name}.rev_size_mm"

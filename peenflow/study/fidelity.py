@@ -162,6 +162,11 @@ class Fidelity(ShotScaled):
         p = self.intensity_extrapolation_order
         return INTENSITY_ORDER if p is None else p
 
+    @property
+    def strip_element_size_um(self) -> float:
+        """The largest element size the strips run at: the coarse level of an intensity extrapolation, if any."""
+        return max(self.element_size_um, self.extrapolate_intensity_from_um or 0.0)
+
     # SI helpers; the shot diameter is set by the Study after loading.
     @property
     def element_size_m(self) -> float:

@@ -70,10 +70,9 @@ class Study(StudyModel):
         1.25 R each side, plus 2 elements) must fit in half a period."""
         if self.fidelity.lateral_boundary != "periodic":
             return self
-        coarse = self.fidelity.extrapolate_intensity_from_um
         for name, section in (("almen", self.almen), ("target", self.target)):
             size = getattr(section, "rev_size_mm", None) if section is not None else None
-            h_um = max(self.fidelity.element_size_um, coarse or 0.0) if name == "almen" else self.fidelity.element_size_um
+            h_um = self.fidelity.strip_element_size_um if name == "almen" else self.fidelity.element_size_um
             need = 1.25 * self.shot.diameter_m + 4.0 * h_um * 1e-6
             if size is not None and size * 1e-3 <= need:
                 raise ValueError(
