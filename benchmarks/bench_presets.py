@@ -67,8 +67,8 @@ def _target_levels(data: dict) -> dict[float, dict]:
     by_h: dict[float, dict] = {}
     for k, v in data.items():
         if k.startswith(TARGET + "/"):
-            h, side, _ = _parse_level(k.split("/")[1])
-            if side is None and len(v.get("sequence_sxx_MPa", [])) > len(by_h.get(h, {}).get("sequence_sxx_MPa", [])):
+            h, side, _, dent = _parse_level(k.split("/")[1])
+            if side is None and dent is None and len(v.get("sequence_sxx_MPa", [])) > len(by_h.get(h, {}).get("sequence_sxx_MPa", [])):
                 by_h[h] = v
     if not by_h:
         return {}

@@ -57,19 +57,24 @@ OUT = ROOT / "benchmarks" / "reference" / "study_level.json"
 PROFILE_DEPTH_M = 0.5e-3
 
 
-def _parse_level(text: str) -> tuple[float, float | None, int | None]:
-    """``H`` | ``H@SIDE`` | ``HsN`` -> (element size um, REV side mm or None, target sequences or None)."""
+def _parse_level(text: str) -> tuple[float, float | None, int | None, float | None]:
+    """``H[@SIDE][dHD][sN]`` -> (element size um, REV side mm or None, target sequences or None,
+    the target's dent element size um or None)."""
     text, _, seqs = text.partition("s")
+    text, _, dent = text.partition("d")
     h, _, side = text.partition("@")
-    return float(h), (float(side) if side else None), (int(seqs) if seqs else None)
+    return float(h), (float(side) if side else None), (int(seqs) if seqs else None), (float(dent) if dent else None)
 
 
-def _level_name(h_um: float, side_mm: float | None, sequences: int | None = None) -> str:
+def _level_name(h_um: float, side_mm: float | None, sequences: int | None = None, dent_um: float | None = None) -> str:
     name = f"{h_um:g}" if side_mm is None else f"{h_um:g}@{side_mm:g}"
+    if dent_um is not None:
+        name += f"d{dent_um:g}"
     return name if sequences is None else f"{name}s{sequences}"
 
 
-def _level_study(point: str, h_um: float, side_mm: float | None = None, sequences: int | None = None) -> Path:
+def _level_study(point: str, h_um: float, side_mm: float | None = None, sequences: int | None = None,
+                 dent_um: float | None = None) -> Path:
     text = (STUDIES / f"{point}.toml").read_text()
     lines, section = [], ""
     for ln in text.splitlines():
@@ -78,6 +83,8 @@ def _level_study(point: str, h_um: float, side_mm: float | None = None, sequence
             section = key
         if key.startswith("element_size_um"):
             ln = f"element_size_um = {h_um!r}"
+            if dent_um is not None:  # the target's dent (N_f, N_c) from a single impact at its own size
+                ln += f"\ndent_element_size_um = {dent_um!r}"
         elif side_mm is not None and key.startswith(("rev_size_mm", "measure_size_mm")):
             ln = f"{key.split('=')[0].strip()} = {side_mm!r}"
         elif sequences is not None and section == "[target]" and key.startswith("sequences"):
@@ -85,7 +92,7 @@ def _level_study(point: str, h_um: float, side_mm: float | None = None, sequence
         lines.append(ln)
     d = STORE / point
     d.mkdir(parents=True, exist_ok=True)
-    path = d / f"h{_level_name(h_um, side_mm, sequences)}.toml"
+    path = d / f"h{_level_name(h_um, side_mm, sequences, dent_um)}.toml"
     new = "\n".join(lines) + "\n"
     if not path.exists() or path.read_text() != new:
         path.write_text(new)
@@ -181,8 +188,8 @@ def _is_target(point: str) -> bool:
 
 def run(point: str, levels: list[str]) -> None:
     for level in levels:
-        h, side, seqs = _parse_level(level)
-        study = _level_study(point, h, side, seqs)
+        h, side, seqs, dent = _parse_level(level)
+        study = _level_study(point, h, side, seqs, dent)
         t0, c0 = time.time(), resource.getrusage(resource.RUSAGE_CHILDREN)
         target = _is_target(point)
         cmd = [sys.executable, "-m", "peenflow.cli", "run", str(study),
@@ -196,7 +203,7 @@ def run(point: str, levels: list[str]) -> None:
             print(f"level {level} did not finish (rc {proc.returncode}); run again to resume")
             return
         entry = _collect_target(study) if target else _collect(study)
-        key = f"{point}/{_level_name(h, side, seqs)}"
+        key = f"{point}/{_level_name(h, side, seqs, dent)}"
         prev = (json.loads(OUT.read_text()) if OUT.exists() else {}).get(key, {})
         # CPU of this call; a resumed level keeps the sum of its calls
         cpu = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)
@@ -305,17 +312,19 @@ def table(only: str | None = None) -> None:
 
 
 def _target_table(point: str, data: dict) -> None:
-    levels = sorted(((float(k.split("/")[1]), v) for k, v in data.items() if k.startswith(point + "/")),
-                    reverse=True)
-    print(f"\n#### {point} (target profile, mean of the sequences)")
-    print("| h um | surface MPa | peak MPa | per sequence | peak depth mm | zero crossing mm | "
+    named = sorted(((_parse_level(k.split("/")[1]), k.split("/")[1], v) for k, v in data.items()
+                    if k.startswith(point + "/")), key=lambda t: (-t[0][0], -(t[0][3] or t[0][0])))
+    print(f"\n#### {point} (target profile, mean of the sequences; level H dD: REV at H um, dent at D um)")
+    print("| level | surface MPa | peak MPa | per sequence | peak depth mm | zero crossing mm | "
           "sigma_yy peak MPa | N_c | REV depth mm | CPU s | code |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
-    for h, v in levels:
-        print(f"| {h:g} | {v['surface_MPa']:.0f} | {v['peak_MPa']:.0f} | "
+    for _, name, v in named:
+        print(f"| {name} | {v['surface_MPa']:.0f} | {v['peak_MPa']:.0f} | "
               + ", ".join(f"{x:.0f}" for x in v["sequence_peak_MPa"])
               + f" | {v['peak_depth_mm']:.3f} | {v['zero_depth_mm']:.3f} | {v['peak_yy_MPa']:.0f} | "
               f"{v['coverage_shots']:.0f} | {v['rev_thickness_mm']:.2f} | {v['cpu_s']:.0f} | {v['code'][:12]} |")
+    # Richardson over the levels whose dent is at their own element size
+    levels = [(lv[0], v) for lv, _, v in named if lv[1] is None and lv[3] is None]
     if len(levels) >= 3:
         hs = [h for h, _ in levels[-3:]]
         for q in ("surface_MPa", "peak_MPa", "peak_depth_mm", "zero_depth_mm", "peak_yy_MPa"):

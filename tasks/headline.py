@@ -116,9 +116,13 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
                          f"thick, rule {rev.attrs.get('rule', '?')}"))
     dent = get("target_indentation")
     if dent is not None:
+        impact = get("target_impact")
+        # the dent's own element size (fidelity.dent_element_size_um may make it finer than the REV's)
+        made = ("" if impact is None else
+                f", single impact on {np.diff(impact.x_node_full.values).min() * 1e6:.3g} um elements")
         rows.append(("target dent", f"{float(dent.dent_semi_axis_along_m) * 1e3:.3f} × "
                      f"{float(dent.dent_semi_axis_across_m) * 1e3:.3f} mm",
-                     f"semi-axes along × across, {float(dent.dent_depth_m) * 1e6:.1f} um deep"))
+                     f"semi-axes along × across, {float(dent.dent_depth_m) * 1e6:.1f} um deep{made}"))
     cov = get("coverage_curve")
     if cov is not None:
         rows.append((f"N_f ({cov.attrs['full_coverage_percent']:g} % coverage)",

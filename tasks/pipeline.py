@@ -11,6 +11,7 @@
     (coarse_strip_runs -> coarse_arc_height -> coarse_saturation), and
               saturation + coarse_saturation -> intensity_extrapolation[angle, velocity] -> control_curve
     control_curve -> target_velocity -> target_impact -> target_indentation
+              (target_impact at fidelity.dent_element_size_um when given: N_f from a finer dent)
     target_impact -> target_dmin -> target_rev                       (no target.rev_size_mm)
     target_indentation + target_rev -> coverage_curve
     target_rev + target_velocity + coverage_curve -> target_runs[sequence] -> residual_profile
@@ -76,7 +77,8 @@ STAGES: dict[str, str] = {
                                "element size from the two levels (paired sequences)",
     "control_curve": "[almen]: intensity against velocity, per angle (Fig. 17)",
     "target_velocity": "[target]: the velocity for the target intensity (or target.velocity_m_s as given)",
-    "target_impact": "[target]: one shot on a block of the target material",
+    "target_impact": "[target]: one shot on a block of the target material (at fidelity.dent_element_size_um "
+                     "when given)",
     "target_indentation": "[target]: the dent ellipse through the pile-up crest",
     "target_rev_thickness": '[target] with rev_thickness_mm = "auto": the REV depth by a convergence check',
     "target_dmin": "[target] without rev_size_mm: two-shot search for d_min",
@@ -136,10 +138,16 @@ def build_graph(path) -> Graph:
         tmat = {"material": p.target_material, **kernel}
         given = t.velocity_m_s is not None
         vel = g.add(target_velocity, upstream={} if given else {"control": control}, params={"target": p.target})
+        # the dent's impact at its own element size (fidelity.dent_element_size_um; the study's by default)
         imp_t = g.add(single_impact, upstream={"velocity": vel}, stage="target_impact", params={
-            **tmat, "angle_deg": t.angle_deg,
+            **tmat, "fidelity": p.dent_fidelity, "angle_deg": t.angle_deg,
             "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(t.rev_thickness_m, IMPACT_BLOCK_D * D)})
         dent = g.add(indentation, upstream={"impact": imp_t}, stage="target_indentation")
+        if study.fidelity.dent_element_size_um is not None:
+            dent_level = fidelity_statement(study.fidelity, element_size_um=study.fidelity.dent_element_size_um,
+                                            level="dent")
+            for stage in DENT_STAGES:
+                g.stage_result_attrs[stage] = dent_level
         thick_up = {}
         if t.rev_thickness_auto:
             thick_up["thickness"] = g.add(rev_thickness, upstream={"velocity": vel, "dent": dent},
@@ -185,6 +193,11 @@ def build_graph(path) -> Graph:
     g.reports.append(plots_and_report)
     return g
 
+
+#: the target stages that run at ``fidelity.dent_element_size_um`` when it is given (the dent's single
+#: impact and its ellipse; target_dmin only takes its search bracket from that impact and runs its own
+#: two-shot impacts at ``element_size_um``)
+DENT_STAGES = ("target_impact", "target_indentation")
 
 #: the strip stages one element size makes; a study that extrapolates its intensities runs them at a
 #: coarse level too, as ``coarse_<stage>``

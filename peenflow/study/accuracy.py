@@ -116,13 +116,16 @@ def study_level_error(element_size_um: float, extrapolated_from_um: float | None
     return f"study level not measured at {element_size_um:g} um ({STUDY_LEVEL_SOURCE})"
 
 
-def statement(fidelity, element_size_um: float | None = None, extrapolated: bool = True) -> dict[str, str]:
+def statement(fidelity, element_size_um: float | None = None, extrapolated: bool = True,
+              level: str = "coarse") -> dict[str, str]:
     """``peenflow_fidelity`` (what made the result) and ``peenflow_fidelity_error`` (what that is
     measured to cost) for a loaded :class:`~peenflow.study.fidelity.Fidelity`.
 
     ``element_size_um``: the element size of the result when it is not the study's own (the coarse
     level of an intensity extrapolation); ``extrapolated``: False for results of one level only
-    (the strip runs, arc heights and saturation fits of a study that extrapolates its intensities)."""
+    (the strip runs, arc heights and saturation fits of a study that extrapolates its intensities);
+    ``level``: what ``element_size_um`` is -- ``"coarse"``, the coarse level of the extrapolation, or
+    ``"dent"``, the target's single impact at ``fidelity.dent_element_size_um``."""
     h = fidelity.element_size_um if element_size_um is None else element_size_um
     coarse = fidelity.extrapolate_intensity_from_um if extrapolated and element_size_um is None else None
     order = fidelity.intensity_order
@@ -133,7 +136,10 @@ def statement(fidelity, element_size_um: float | None = None, extrapolated: bool
     if coarse is not None:
         made += f"; Almen intensities extrapolated to zero element size from {coarse:g} and {h:g} um (order {order:g})"
     elif element_size_um is not None:
-        made += " (the coarse level of the intensity extrapolation)"
+        made += (" (the target's single impact, whose dent ellipse gives N_f and N_c)" if level == "dent"
+                 else " (the coarse level of the intensity extrapolation)")
+    if element_size_um is None and fidelity.dent_element_size_um is not None:
+        made += f"; the target's dent ellipse (N_f, N_c) from a single impact at {fidelity.dent_element_size_um:g} um"
     return {
         "peenflow_fidelity": made,
         "peenflow_fidelity_error": f"{single}; {study_level_error(h, coarse, order)}",

@@ -66,6 +66,9 @@ BOUNDS: tuple[Bound, ...] = (
     Bound("fidelity.extrapolate_intensity_from_um", 6.25, 40.0, "um",
           "40 & 25 um extrapolated are within -0.6 ... +3.5 % of the strip references; a 60 um level is "
           "pre-asymptotic (60 & 40 um: -11.3 ... +0.9 %, 12A velocity +14.7 %; BENCHMARKS.md section 9)"),
+    Bound("fidelity.dent_element_size_um", 6.25, 40.0, "um",
+          "the target's N_f measured from dents at 6.25-40 um (BENCHMARKS.md section 9); it refines the "
+          "dent, so a level coarser than the studies' 40 um adds only error"),
     Bound("fidelity.intensity_extrapolation_order", 0.5, 4.0, "",
           "the strip references converge with orders 1.72-1.99; outside [0.5, 4] no level triple was accepted "
           "as converging (benchmarks/bench_reference.py)"),

@@ -123,6 +123,10 @@ class Fidelity(ShotScaled):
     intensity_extrapolation_order: Optional[Positive] = Field(
         None, description="the order p of I(h) = I0 + c h^p used by that extrapolation (default: the measured "
                           "order of the strip references, peenflow.study.accuracy.INTENSITY_ORDER)")
+    dent_element_size_um: Optional[Positive] = Field(
+        None, description="a finer element size in um for the target's single impact, whose dent ellipse gives the "
+                          "coverage curve, N_f and N_c (the pile-up crest that bounds the dent converges at first "
+                          "order in the element size); the REV runs stay at element_size_um")
 
     @model_validator(mode="after")
     def _one_depth(self) -> "Fidelity":
@@ -146,6 +150,16 @@ class Fidelity(ShotScaled):
                 "extrapolation)")
         return hc
 
+    @field_validator("dent_element_size_um")
+    @classmethod
+    def _finer_dent(cls, hd, info):
+        h = info.data.get("element_size_um")
+        if hd is not None and h is not None and not hd <= h:
+            raise ValueError(
+                f"expected an element size no coarser than element_size_um = {h:g} um (the dent is refined to make "
+                "N_f converge; a coarser dent would only add error)")
+        return hd
+
     @field_validator("intensity_extrapolation_order")
     @classmethod
     def _order_needs_levels(cls, p, info):
@@ -166,6 +180,11 @@ class Fidelity(ShotScaled):
     def strip_element_size_um(self) -> float:
         """The largest element size the strips run at: the coarse level of an intensity extrapolation, if any."""
         return max(self.element_size_um, self.extrapolate_intensity_from_um or 0.0)
+
+    @property
+    def dent_size_um(self) -> float:
+        """The element size of the target's single impact (its dent ellipse, N_f and N_c)."""
+        return self.element_size_um if self.dent_element_size_um is None else self.dent_element_size_um
 
     # SI helpers; the shot diameter is set by the Study after loading.
     @property

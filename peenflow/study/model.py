@@ -88,6 +88,14 @@ class Study(StudyModel):
                              "[almen] strip runs, and this study has no [almen] section: add one, or delete the key")
         return self
 
+    @model_validator(mode="after")
+    def _dent_level_needs_target(self) -> "Study":
+        if self.fidelity.dent_element_size_um is not None and self.target is None:
+            raise ValueError("fidelity.dent_element_size_um refines the single impact of the [target] section, "
+                             "whose dent gives N_f and N_c, and this study has no [target] section: add one, or "
+                             "delete the key")
+        return self
+
     # --- identity --------------------------------------------------------
     @property
     def name(self) -> str:

@@ -90,6 +90,8 @@ def test_each_bound_refuses_just_outside_and_accepts_its_edges(write_study, boun
             return {"almen.sequences": 2, **other, bound.key: int(v) if name == "max_sequences" else v}
         if bound.key == "fidelity.extrapolate_intensity_from_um":  # a coarser level than the study's 25 um
             return {"fidelity.element_size_um": 25.0, bound.key: v}
+        if bound.key == "fidelity.dent_element_size_um":  # finer than the study's elements
+            return {"fidelity.element_size_um": 60.0, bound.key: v}
         if bound.key == "fidelity.intensity_extrapolation_order":
             return {"fidelity.element_size_um": 25.0, "fidelity.extrapolate_intensity_from_um": 40.0, bound.key: v}
         if isinstance(bound.low, float) and name in ("sequences", "grid_points"):

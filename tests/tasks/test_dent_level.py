@@ -1,0 +1,110 @@
+"""The target's dent at its own, finer element size (fidelity.dent_element_size_um, issue 10 §1/§4)
+through `peenflow run` on a micro target (100 um REV, 80 um dent): the single impact and its
+ellipse run at the dent's size, the REV runs at the study's; the dent's single impact is the one a
+study at that element size computes (same key: shared), so N_f and N_c are that study's; every
+result says which element size made it, and the headline names the dent's."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from peenflow.api import load_study_graph
+from peenflow.engine import DirectoryStore, plan
+from peenflow.engine.reasons import State
+
+HERE = Path(__file__).parent
+H_REV, H_DENT = 100e-6, 80e-6
+
+
+def _run(study: Path, *args) -> str:
+    proc = subprocess.run([sys.executable, "-m", "peenflow.cli", "run", str(study), "--workers", "1", *args],
+                          capture_output=True, text=True, timeout=900)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    return proc.stdout
+
+
+def _items(study: Path, until: str):
+    graph = load_study_graph(study)
+    store = DirectoryStore(study.parent / ".peenflow")
+    return {i.node.stage: i for i in plan(graph, store, graph.until(until))}, store
+
+
+def _open(study: Path, stage: str):
+    items, store = _items(study, stage)
+    item = items[stage]
+    assert item.state is State.DONE, (stage, item.state)
+    return store.open(item.node.task.name, item.key)
+
+
+def _variant(study: Path, name: str, element_um: float | None, dent: bool) -> Path:
+    """A copy of the study in the same folder (same store) with another element size or no dent key."""
+    text = study.read_text()
+    if element_um is not None:
+        text = text.replace("element_size_um = 100.0", f"element_size_um = {element_um!r}")
+    if not dent:
+        text = text.replace("dent_element_size_um = 80.0\n", "")
+    assert ("dent_element_size_um = " in text) == dent
+    path = study.with_name(name)
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    d = tmp_path_factory.mktemp("dent_level")
+    study = d / "micro_dent.toml"
+    shutil.copy(HERE / "micro_dent.toml", study)
+    return study, _run(study)
+
+
+def _spacing(x) -> float:
+    return float(np.diff(np.asarray(x)).min())
+
+
+def test_the_dent_runs_at_its_size_and_the_rev_at_the_study_s(run):
+    study, _ = run
+    impact = _open(study, "target_impact")
+    assert _spacing(impact.x_node_full.values) == pytest.approx(H_DENT, rel=1e-9)
+    runs = _open(study, "target_runs")
+    # the REV's fine zone: uniform layers of the study's element size under the surface
+    top = np.diff(runs.z_edge_m.values.ravel()[:4])
+    assert np.allclose(top, H_REV, rtol=1e-9), top
+    # the REV ran N_c shots of the coverage curve made from the fine dent
+    cov = _open(study, "coverage_curve")
+    assert int(runs.attrs["coverage_shots"]) == int(cov.coverage_shots_rounded)
+
+
+def test_the_dent_is_the_one_a_study_at_that_size_computes(run):
+    study, _ = run
+    fine = _variant(study, "micro_80.toml", 80.0, dent=False)
+    items, _ = _items(fine, "coverage_curve")
+    # nothing of the dent's chain left to compute: the same keys as the dent level's
+    assert items["target_impact"].state is State.DONE and items["target_indentation"].state is State.DONE
+    _run(fine, "--until", "coverage_curve")
+    n_f = float(_open(study, "coverage_curve").full_coverage_shots)
+    assert float(_open(fine, "coverage_curve").full_coverage_shots) == n_f
+    # without the key the dent is the REV's (100 um): another impact, another ellipse, another N_f
+    plain = _variant(study, "micro_100.toml", None, dent=False)
+    items, _ = _items(plain, "coverage_curve")
+    assert items["target_impact"].state is not State.DONE
+    _run(plain, "--until", "coverage_curve")
+    assert _spacing(_open(plain, "target_impact").x_node_full.values) == pytest.approx(H_REV, rel=1e-9)
+    assert float(_open(plain, "coverage_curve").full_coverage_shots) != n_f
+
+
+def test_each_result_says_which_element_size_made_it(run):
+    study, out = run
+    for stage in ("target_impact", "target_indentation"):
+        made = _open(study, stage).attrs["peenflow_fidelity"]
+        assert "80 um elements" in made and "dent ellipse gives N_f and N_c" in made, made
+    for stage in ("coverage_curve", "target_runs", "residual_profile"):
+        made = _open(study, stage).attrs["peenflow_fidelity"]
+        assert "100 um elements" in made and "dent ellipse (N_f, N_c) from a single impact at 80 um" in made, made
+    dent_row = next(ln for ln in out.splitlines() if ln.strip().startswith("target dent"))
+    assert "single impact on 80 um elements" in dent_row, dent_row
