@@ -66,7 +66,7 @@ def _target_levels(data: dict) -> dict[float, dict]:
 
     by_h: dict[float, dict] = {}
     for k, v in data.items():
-        if k.startswith(TARGET + "/"):
+        if k.startswith(TARGET + "/") and k.count("/") == 1:
             h, side, _, dent = _parse_level(k.split("/")[1])
             if side is None and dent is None and len(v.get("sequence_sxx_MPa", [])) > len(by_h.get(h, {}).get("sequence_sxx_MPa", [])):
                 by_h[h] = v
@@ -214,6 +214,56 @@ def _two_level(strips: dict, ref_i: dict, ref_v: float, coarse: float = 40.0, fi
             "orders": used, "levels_um": (coarse, fine), "order_all": intensity_order(strips)}
 
 
+#: the finest dent levels N_f's limit is fitted to (first order: the pile-up crest that bounds the
+#: dent is found at node resolution, so N_f(h) = N0 + c h; BENCHMARKS.md §9)
+DENT_FIT_COARSEST_UM = 16.0
+
+
+def dent_levels(data: dict) -> dict[float, dict]:
+    """{element size um of the target's single impact: its entry} (``bench_reference.py dent``)."""
+    return {float(k.split("/")[2]): v for k, v in data.items() if k.startswith(TARGET + "/dent/")}
+
+
+def n_f_reference(data: dict | None = None) -> dict:
+    """The limit of the target's N_f at zero element size of its dent: the least-squares fit
+    N_f(h) = N0 + c h over the dent levels h <= :data:`DENT_FIT_COARSEST_UM` (``n0``, its standard
+    error ``n0_se``, ``slope`` per um), beside the other estimates a user could make from the same
+    levels (``free_order``: N0 and p of a fit N0 + c h^p; ``richardson``: {levels: (N0, order)} of
+    every triple of the three finest and of the 16 / 10 / 6.25 um levels) and the per-level errors
+    against ``n0`` in % (``error_pct``)."""
+    from scipy.optimize import curve_fit
+
+    data = json.loads(OUT.read_text()) if data is None else data
+    lv = dent_levels(data)
+    hs = np.array(sorted(h for h in lv if h <= DENT_FIT_COARSEST_UM + 1e-9))
+    if hs.size < 3:
+        return {}
+    nf = np.array([lv[h]["full_coverage_shots"] for h in hs])
+    a = np.vstack([np.ones_like(hs), hs]).T
+    coef, *_ = np.linalg.lstsq(a, nf, rcond=None)
+    resid = nf - a @ coef
+    cov = (resid @ resid / (hs.size - 2)) * np.linalg.inv(a.T @ a)
+    out = {"n0": float(coef[0]), "n0_se": float(np.sqrt(cov[0, 0])), "slope": float(coef[1]),
+           "levels_um": hs.tolist()}
+    out["free_order"] = None
+    if hs.size >= 4:  # three parameters: a fourth level is the least that tests the fit
+        import warnings
+
+        from scipy.optimize import OptimizeWarning
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", OptimizeWarning)
+            try:
+                (n0p, _, p), _ = curve_fit(lambda h, n0, c, p: n0 + c * h ** p, hs, nf,
+                                           p0=(coef[0], coef[1], 1.0), maxfev=20000)
+                out["free_order"] = (float(n0p), float(p))
+            except RuntimeError:
+                pass
+    triples = [tuple(hs[-3:][::-1])] + ([(16.0, 10.0, 6.25)] if {16.0, 10.0, 6.25} <= set(lv) else [])
+    out["richardson"] = {t: richardson(list(t), [lv[h]["full_coverage_shots"] for h in t]) for t in triples}
+    out["error_pct"] = {h: 100.0 * (v["full_coverage_shots"] / out["n0"] - 1.0) for h, v in sorted(lv.items())}
+    return out
+
+
 def worst_pct(row: dict) -> float:
     """The largest |error| in % over the quantities with a converged reference: the intensity and the
     12A velocity."""
@@ -251,6 +301,19 @@ def main(plot: str | None) -> None:
         print("  orders used (leave-one-out means of the other points' Richardson orders): "
               + ", ".join(f"{p} {o:.2f}" for p, o in extrap["orders"].items())
               + f"; the studies' default (mean of all): {extrap['order_all']:.2f}")
+    nref = n_f_reference()
+    if nref:
+        print(f"\n{TARGET}: N_f against the element size of its dent (bench_reference.py dent): limit "
+              f"{nref['n0']:.1f} ± {nref['n0_se']:.1f} (first-order fit over "
+              + "/".join(f"{h:g}" for h in nref["levels_um"]) + " um)"
+              + ("" if not nref["free_order"] else
+                 f"; free-order fit {nref['free_order'][0]:.1f} (p {nref['free_order'][1]:.2f})")
+              + "".join(f"; Richardson {'/'.join(f'{h:g}' for h in t)}: "
+                        + ("-" if v is None else f"{v:.1f} (order {p:.2f})") for t, (v, p) in nref["richardson"].items()))
+        print("| dent h um | N_f | error % |")
+        print("|---|---|---|")
+        for h, e in sorted(nref["error_pct"].items(), reverse=True):
+            print(f"| {h:g} | {dent_levels(json.loads(OUT.read_text()))[h]['full_coverage_shots']:.1f} | {e:+.1f} |")
     if plot:
         import matplotlib
 

@@ -4,6 +4,7 @@ changing (prints its figures; not a test).
 Usage (from the repository root)::
 
     PYTHONPATH=. python benchmarks/bench_reference.py run POINT LEVEL [LEVEL ...]
+    PYTHONPATH=. python benchmarks/bench_reference.py dent POINT H [H ...]
     PYTHONPATH=. python benchmarks/bench_reference.py table [POINT]
 
 A LEVEL is an element size in um (``25``), or an element size and a REV side in mm
@@ -11,6 +12,12 @@ A LEVEL is an element size in um (``25``), or an element size and a REV side in 
 the REV-size convergence of issue 10 §3), or for the target an element size and a
 number of sequences (``16s1``: its first sequence only -- the same shot stream as
 every level's first sequence, so the levels compare paired on it at half the cost).
+
+A target LEVEL may also name the element size of its dent (``25d6.25s1``: REV at 25 um, the
+single impact whose dent gives N_f and N_c at 6.25 um, ``fidelity.dent_element_size_um``): levels
+with the same dent run the same number of shots, so they compare the REV's mesh at a fixed N.
+``dent POINT H ...`` runs the target only up to its coverage curve at each element size H and
+records the dent ellipse, N_f and N_c (key ``POINT/dent/H``).
 
 POINT is a study file stem under ``benchmarks/reference/studies/``: a strip point
 (``strip_90_55``, ``strip_67_25``/``30``/``35``) or the §5 target (``al7075_30``: a study
@@ -313,7 +320,18 @@ def table(only: str | None = None) -> None:
 
 def _target_table(point: str, data: dict) -> None:
     named = sorted(((_parse_level(k.split("/")[1]), k.split("/")[1], v) for k, v in data.items()
-                    if k.startswith(point + "/")), key=lambda t: (-t[0][0], -(t[0][3] or t[0][0])))
+                    if k.startswith(point + "/") and k.count("/") == 1),
+                   key=lambda t: (-(t[0][1] or 0.0), -t[0][0], -(t[0][3] or t[0][0])))
+    dents = sorted(((float(k.split("/")[2]), v) for k, v in data.items() if k.startswith(point + "/dent/")),
+                   reverse=True)
+    if dents:
+        print(f"\n#### {point}: the dent, N_f and N_c against the single impact's element size")
+        print("| h um | semi-axes um | dent depth um | pile-up um | N_f | N_c | CPU s |")
+        print("|---|---|---|---|---|---|---|")
+        for h, v in dents:
+            print(f"| {h:g} | {v['semi_axis_along_um']:.1f} x {v['semi_axis_across_um']:.1f} | {v['dent_depth_um']:.2f} | "
+                  f"{v['pileup_height_um']:.2f} | {v['full_coverage_shots']:.1f} | {v['coverage_shots']:.0f} | "
+                  f"{v['cpu_s']:.0f} |")
     print(f"\n#### {point} (target profile, mean of the sequences; level H dD: REV at H um, dent at D um)")
     print("| level | surface MPa | peak MPa | per sequence | peak depth mm | zero crossing mm | "
           "sigma_yy peak MPa | N_c | REV depth mm | CPU s | code |")
@@ -337,11 +355,58 @@ def _target_table(point: str, data: dict) -> None:
                 print(f"- {q}: Richardson {ext:.4g} (order {p:.2f}); finest level {fs[-1]:.4g} "
                       f"({100 * (fs[-1] / ext - 1):+.1f} %)")
 
+def dent(point: str, sizes: list[str]) -> None:
+    """The target's dent ellipse, N_f and N_c at each element size (the study run ``--until
+    coverage_curve``): what ``fidelity.dent_element_size_um`` takes from a finer single impact.
+
+    The REV thickness of each level study is the part's (what ``"auto"`` gives the single impact's
+    block), so no REV-depth check runs; the coverage curve uses the same seeds at every size."""
+    for text in sizes:
+        h = float(text)
+        study = _level_study(point, h)
+        body = study.read_text()
+        part = next(ln.split("=")[1].split("#")[0].strip() for ln in body.splitlines()
+                    if ln.strip().startswith("thickness_mm"))
+        body = body.replace('rev_thickness_mm = "auto"', f"rev_thickness_mm = {part}")
+        path = study.parent / "dent" / f"h{h:g}.toml"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if not path.exists() or path.read_text() != body:
+            path.write_text(body)
+        c0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cmd = [sys.executable, "-m", "peenflow.cli", "run", str(path), "--until", "coverage_curve",
+               "--workers", "1", "--threads", "1", "--quiet"]
+        print("$", " ".join(cmd), flush=True)
+        proc = subprocess.run(cmd, capture_output=True, text=True)
+        c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if proc.returncode != 0:
+            print(proc.stdout[-3000:], proc.stderr[-3000:], f"dent level {text} did not finish", flush=True)
+            return
+        cov, ind, imp = _results(path, "coverage_curve", "target_indentation", "target_impact")
+        sq = lambda a: float(np.asarray(a).squeeze())  # noqa: E731
+        entry = {"full_coverage_shots": sq(cov.full_coverage_shots), "coverage_shots": sq(cov.coverage_shots_rounded),
+                 "semi_axis_along_um": sq(ind.dent_semi_axis_along_m) * 1e6,
+                 "semi_axis_across_um": sq(ind.dent_semi_axis_across_m) * 1e6,
+                 "dent_depth_um": sq(ind.dent_depth_m) * 1e6, "pileup_height_um": sq(ind.pileup_height_m) * 1e6,
+                 "cpu_s": (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime),
+                 "code": str(imp.attrs.get("peenflow_source_hash") or imp.attrs.get("peenflow_code", "")),
+                 "command": f"PYTHONPATH=. python benchmarks/bench_reference.py dent {point} {text}",
+                 "date": time.strftime("%Y-%m-%d")}
+        data = json.loads(OUT.read_text()) if OUT.exists() else {}
+        data[f"{point}/dent/{h:g}"] = entry
+        tmp = OUT.with_suffix(".tmp")
+        tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+        tmp.replace(OUT)
+        print(f"{point} dent at {h:g} um: N_f {entry['full_coverage_shots']:.2f}, N_c {entry['coverage_shots']:.0f}, "
+              f"semi-axes {entry['semi_axis_along_um']:.1f} x {entry['semi_axis_across_um']:.1f} um, "
+              f"CPU {entry['cpu_s']:.0f} s", flush=True)
+
 
 if __name__ == "__main__":
     os.chdir(ROOT)
     if len(sys.argv) >= 4 and sys.argv[1] == "run":
         run(sys.argv[2], sys.argv[3:])
+    elif len(sys.argv) >= 4 and sys.argv[1] == "dent":
+        dent(sys.argv[2], sys.argv[3:])
     elif len(sys.argv) >= 2 and sys.argv[1] == "table":
         table(sys.argv[2] if len(sys.argv) > 2 else None)
     else:

@@ -21,6 +21,8 @@ from peenflow.fe.mesh import BoxMesh, graded_axis
 from peenflow.fe.records import SHOT_RECORD_FIELDS
 from peenflow.fe.safety import KernelInstabilityError
 
+from peenflow.study.bounds import rev_lateral_elements
+
 from .params import FidelityParams
 
 # Kernel option names in a kernel stop message -> what a study user changes instead. The kernel
@@ -94,7 +96,7 @@ def rev_mesh(f: FidelityParams, side: float, thickness: float) -> BoxMesh:
     Shots land anywhere on the peening surface, so the fine zone covers it all;
     lateral node lines fall on the measuring-region edges when the sizes allow.
     """
-    n = max(2, int(round(side / f.element_size_m)))
+    n = rev_lateral_elements(side, f.element_size_m)
     axis = np.linspace(-0.5 * side, 0.5 * side, n + 1)
     return BoxMesh(axis, axis.copy(), _z_axis(f, thickness))
 

@@ -131,6 +131,41 @@ def contact_radius_m(shot_radius_m: float, shot_density: float, speed: float, E:
     return max(hertz, plastic)
 
 
+def contact_time_s(shot_radius_m: float, shot_density: float, normal_speed: float, E: float, nu: float,
+                   yield_Pa: float) -> float:
+    """The kernel's contact-time estimate (s): the larger of the Hertz duration and the plastic one at
+    mean pressure 3 A (:func:`peenflow.fe.window.contact_estimates`)."""
+    mass = shot_density * 4.0 / 3.0 * math.pi * shot_radius_m ** 3
+    v = max(normal_speed, 1e-9)
+    e_star = E / (1.0 - nu ** 2)
+    delta = (15.0 * mass * v ** 2 / (16.0 * e_star * math.sqrt(shot_radius_m))) ** 0.4
+    plastic = 0.5 * math.pi * math.sqrt(mass / (2.0 * math.pi * shot_radius_m * 3.0 * yield_Pa))
+    return max(2.943 * delta / v, plastic)
+
+
+def rev_lateral_elements(side_m: float, element_m: float) -> int:
+    """Elements along each lateral edge of a REV of side ``side_m`` at element size ``element_m``
+    (the REV mesh of ``tasks._kernel.rev_mesh``: uniform, the nearest whole number, at least 2)."""
+    return max(2, int(round(side_m / element_m)))
+
+
+def rev_lateral_step_bound_m(side_m: float, element_m: float) -> float:
+    """The largest lateral step the REV mesh can have for these sizes (m): at a tie (side / element
+    = k + 1/2, where the rounding depends on how the two were computed) the one of the fewer elements."""
+    return side_m / rev_lateral_elements(side_m, element_m * (1.0 + 1e-12))
+
+
+def periodic_contact_half_m(shot_radius_m: float, shot_density: float, speed: float, angle_deg: float, E: float,
+                            nu: float, yield_Pa: float, element_m: float) -> float:
+    """Half the period a shot's contact zone needs along its direction of travel on a periodic
+    target (m): the kernel's contact search box ``1.25 R``, the tangential travel during 1.5
+    estimated contact times, and two elements (:func:`peenflow.fe.periodic.seam_shift`, whose
+    ValueError this anticipates)."""
+    a = math.radians(angle_deg)
+    t = contact_time_s(shot_radius_m, shot_density, speed * math.sin(a), E, nu, yield_Pa)
+    return 1.25 * shot_radius_m + 1.5 * t * speed * abs(math.cos(a)) + 2.0 * element_m
+
+
 Problem = tuple[str, object, str]  # (key, value, message)
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from peenflow.study import load_study, validate_study
@@ -168,3 +169,35 @@ def test_the_documented_example_message_is_the_real_one(write_study):
     doc = (Path(__file__).resolve().parents[2] / "docs" / "study-files.md").read_text()
     found = _problems_for(write_study, {"target.coverage_percent": 10000.0}, "target.coverage_percent")
     assert found and f"  - {found[0]}\n" in doc
+
+
+@pytest.mark.parametrize("speed, angle_deg, h", [(30.0, 65.0, 40e-6), (55.0, 45.0, 25e-6), (47.0, 90.0, 60e-6)])
+def test_the_periodic_contact_zone_is_the_kernel_s(speed, angle_deg, h):
+    """The study's periodic-REV check (bounds.periodic_contact_half_m) is the kernel's own test in
+    seam_shift: a period just under twice it is refused by the kernel, one just over is not."""
+    from types import SimpleNamespace
+
+    from peenflow.fe.johnson_cook import Material
+    from peenflow.fe.periodic import seam_shift
+    from peenflow.fe.shots import Shots
+    from peenflow.fe import Options
+    from peenflow.study.bounds import periodic_contact_half_m
+
+    E, nu, rho, A = 71e9, 0.33, 2800.0, 434e6
+    mat = Material(E=E, nu=nu, density=rho, A=A, B=303e6, n=0.3, C=0.0, m=0.0, ref_strain_rate=1.0)
+    R, rho_s = 0.29e-3, 7800.0
+    a = math.radians(angle_deg)
+    vel = np.array([speed * math.cos(a), 0.0, speed * math.sin(a)])
+    shot = np.array([0.0, 0.0, -R - 1e-6])
+    shots = Shots([shot], [vel], R, rho_s)
+    half = periodic_contact_half_m(R, rho_s, speed, angle_deg, E, nu, A, h)
+
+    def model(period):
+        n = 16
+        axis = np.linspace(-0.5 * period, 0.5 * period, n + 1)
+        mesh = SimpleNamespace(x_step=h, y_step=h, x=axis, y=axis)
+        return SimpleNamespace(mesh=mesh, period=(period, period), nx=n, ny=n)
+
+    with pytest.raises(ValueError, match="too short for the shot's contact"):
+        seam_shift(model(2.0 * half * (1.0 - 1e-9)), shot, vel, shots, mat, Options(window=False))
+    seam_shift(model(2.0 * half * (1.0 + 1e-9)), shot, vel, shots, mat, Options(window=False))

@@ -147,13 +147,18 @@ CASES = [
     ("dent-level-without-target", {"target": DELETE, "fidelity.element_size_um": 25.0,
                                    "fidelity.dent_element_size_um": 12.5},
      ["fidelity.dent_element_size_um refines the single impact of the [target] section", "no [target] section"]),
+    ("periodic-oblique-travel", {"fidelity.lateral_boundary": "periodic", "fidelity.element_size_um": 40.0,
+                                 "target.rev_size_mm": 0.9, "target.almen_intensity": DELETE,
+                                 "target.velocity_m_s": 30.0, "target.angle_deg": 65.0},
+     ['target.rev_size_mm = 0.9: with fidelity.lateral_boundary = "periodic" the REV side must exceed 1.25 D + 4 '
+      "elements (40.91 um: 40 um fitted to the side) + twice the tangential travel during the contact (0.0455 mm at 30 m/s, 65 deg) = 0.934 mm"]),
     ("extrapolation-order-alone", {"fidelity.intensity_extrapolation_order": 2.0},
      ["fidelity.intensity_extrapolation_order = 2.0: given without fidelity.extrapolate_intensity_from_um"]),
     ("extrapolation-coarse-rev", {"fidelity.element_size_um": 25.0, "fidelity.extrapolate_intensity_from_um": 40.0,
                                   "fidelity.lateral_boundary": "periodic", "almen.rev_rule": "explicit",
                                   "almen.rev_size_mm": 0.85, "target.rev_size_mm": 1.2},
      ['almen.rev_size_mm = 0.85: with fidelity.lateral_boundary = "periodic" the REV side must exceed 1.25 D + 4 '
-      "elements of 40 um"]),
+      "elements (40.48 um: 40 um fitted to the side)"]),
 ]
 
 
