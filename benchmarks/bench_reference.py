@@ -390,7 +390,9 @@ def dent(point: str, sizes: list[str]) -> None:
                  "cpu_s": (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime),
                  "code": str(imp.attrs.get("peenflow_source_hash") or imp.attrs.get("peenflow_code", "")),
                  "command": f"PYTHONPATH=. python benchmarks/bench_reference.py dent {point} {text}",
-                 "date": time.strftime("%Y-%m-%d")}
+                 "date": time.strftime("%Y-%m-%d"),
+                 "commit": subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
+                                          capture_output=True, text=True).stdout.strip()}
         data = json.loads(OUT.read_text()) if OUT.exists() else {}
         data[f"{point}/dent/{h:g}"] = entry
         tmp = OUT.with_suffix(".tmp")

@@ -154,22 +154,32 @@ def test_an_extrapolating_study_states_the_extrapolation_s_error(tmp_path):
 
 
 def test_the_target_numbers_are_the_measured_ones():
-    """STUDY_LEVEL_TARGET equals the section 5 target's changes to its 16 um level (and the errors
-    against the Richardson estimate) as bench_presets computes them from study_level.json, to the
-    0.1 % they are rounded to; a study at 25 um states them."""
+    """N_F_LIMIT, DENT_LEVEL_NF and TARGET_PROFILE equal what bench_presets computes from
+    study_level.json (the dent levels' first-order N_f limit; the target's first-sequence profile
+    against its 16 um level), to the 0.1 % they are rounded to; studies state them, a study with
+    fidelity.dent_element_size_um its dent's N_f error."""
     import sys
 
     sys.path.insert(0, str(REPO / "benchmarks"))
-    from bench_presets import study_level_errors
+    from bench_presets import n_f_reference, target_errors
 
-    from peenflow.study.accuracy import STUDY_LEVEL_TARGET
+    from peenflow.study.accuracy import DENT_LEVEL_NF, N_F_LIMIT, TARGET_PROFILE
 
-    measured = study_level_errors()
-    for h, want in STUDY_LEVEL_TARGET.items():
-        row = measured[h]
-        got = tuple(round(row[k], 1) for k in ("n_f_pct", "peak_pct", "zero_depth_pct", "profile_rms_pct",
-                                               "n_f_richardson_pct", "peak_richardson_pct"))
-        assert got == want, (h, row)
+    nref = n_f_reference()
+    assert round(nref["n0"], 1) == N_F_LIMIT
+    assert {h: round(e, 1) for h, e in nref["error_pct"].items()} == DENT_LEVEL_NF
+    measured = target_errors()
+    assert set(measured) == set(TARGET_PROFILE)
+    for key, want in TARGET_PROFILE.items():
+        row = measured[key]
+        assert tuple(round(row[k], 1) for k in ("peak_pct", "zero_depth_pct", "profile_rms_pct")) == want, key
+        assert round(row["n_f_pct"], 1) == DENT_LEVEL_NF[key[1]], key  # the level's N_f is its dent's
     s = statement(load_study(REPO / "studies" / "paper_fast_25um.toml").fidelity)["peenflow_fidelity_error"]
-    nf, pk = STUDY_LEVEL_TARGET[25.0][:2]
-    assert f"against its 16 um level, not converged: N_f {nf:+.1f} %, sigma_xx peak {pk:+.1f} %" in s
+    pk, cd, rms = TARGET_PROFILE[(25.0, 25.0)]
+    assert f"N_f {DENT_LEVEL_NF[25.0]:+.1f} % (dent at 25 um" in s and f"sigma_xx peak {pk:+.1f} %" in s, s
+    p = REPO / "studies" / "paper_fast_extrapolated.toml"
+    fid = load_study(p).fidelity
+    assert fid.dent_element_size_um == 6.25  # the shipped whole-paper study takes its dent from 6.25 um
+    s = statement(fid)["peenflow_fidelity_error"]
+    pk, cd, rms = TARGET_PROFILE[(25.0, 6.25)]
+    assert f"N_f {DENT_LEVEL_NF[6.25]:+.1f} % (dent at 6.25 um" in s and f"sigma_xx peak {pk:+.1f} %" in s, s
