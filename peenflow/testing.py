@@ -117,3 +117,15 @@ def assert_results_equal(a, b, rtol: float = 0.0, names=None) -> None:
             relative = diff / scale if scale else np.inf
             assert diff <= rtol * scale, (f"{n}: largest difference {diff:.3g} is {relative:.3g} of its scale "
                                           f"{scale:.3g} (rtol {rtol:g})")
+
+
+def run_study(study, *args, workers: int = 1, timeout: float = 900.0) -> str:
+    """``peenflow run STUDY --workers N ARGS...`` in a subprocess, as a user runs it; its stdout
+    (the assertion message carries stdout and stderr when it fails)."""
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-m", "peenflow.cli", "run", str(study), "--workers", str(workers), *args],
+                          capture_output=True, text=True, timeout=timeout)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    return proc.stdout

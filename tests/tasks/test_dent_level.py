@@ -7,8 +7,6 @@ result says which element size made it, and the headline names the dent's."""
 from __future__ import annotations
 
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -17,16 +15,14 @@ import pytest
 from peenflow.api import load_study_graph
 from peenflow.engine import DirectoryStore, plan
 from peenflow.engine.reasons import State
+from peenflow.testing import run_study
 
 HERE = Path(__file__).parent
 H_REV, H_DENT = 100e-6, 80e-6
 
 
 def _run(study: Path, *args) -> str:
-    proc = subprocess.run([sys.executable, "-m", "peenflow.cli", "run", str(study), "--workers", "1", *args],
-                          capture_output=True, text=True, timeout=900)
-    assert proc.returncode == 0, proc.stdout + proc.stderr
-    return proc.stdout
+    return run_study(study, *args)
 
 
 def _items(study: Path, until: str):

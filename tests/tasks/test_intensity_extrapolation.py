@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import re
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +17,7 @@ from peenflow.api import load_study_graph
 from peenflow.engine import DirectoryStore, plan
 from peenflow.engine.conventions import squeeze_point
 from peenflow.engine.reasons import State
+from peenflow.testing import run_study
 from peenflow.methods import ControlCurve, extrapolation_factor
 from peenflow.study.accuracy import INTENSITY_ORDER
 
@@ -27,10 +26,7 @@ H_FINE, H_COARSE = 100e-6, 125e-6
 
 
 def _run(study: Path, *args) -> str:
-    proc = subprocess.run([sys.executable, "-m", "peenflow.cli", "run", str(study), "--workers", "1", *args],
-                          capture_output=True, text=True, timeout=900)
-    assert proc.returncode == 0, proc.stdout + proc.stderr
-    return proc.stdout
+    return run_study(study, *args)
 
 
 def _results(study: Path, stage: str):
