@@ -303,7 +303,8 @@ def worst_pct(row: dict) -> float:
 
 
 def main(plot: str | None) -> None:
-    errors = study_level_errors()
+    data = json.loads(OUT.read_text())
+    errors = study_level_errors(data)
     ref = errors.pop("reference")
     print("references: intensity " + ", ".join(f"{p} {v:.4f} mm" for p, v in ref["intensity_mm"].items())
           + f"; 12A at 67.5 deg {ref['velocity_12a_m_s']:.2f} m/s; {TARGET}: N_f {ref['n_f']:.1f} (first-order limit "
@@ -325,8 +326,9 @@ def main(plot: str | None) -> None:
         print("  orders used (leave-one-out means of the other points' Richardson orders): "
               + ", ".join(f"{p} {o:.2f}" for p, o in extrap["orders"].items())
               + f"; the studies' default (mean of all): {extrap['order_all']:.2f}")
-    nref = n_f_reference()
+    nref = n_f_reference(data)
     if nref:
+        dents = dent_levels(data)
         print(f"\n{TARGET}: N_f against the element size of its dent (bench_reference.py dent): limit "
               f"{nref['n0']:.1f} ± {nref['n0_se']:.1f} (first-order fit over "
               + "/".join(f"{h:g}" for h in nref["levels_um"]) + " um)"
@@ -337,8 +339,8 @@ def main(plot: str | None) -> None:
         print("| dent h um | N_f | error % |")
         print("|---|---|---|")
         for h, e in sorted(nref["error_pct"].items(), reverse=True):
-            print(f"| {h:g} | {dent_levels(json.loads(OUT.read_text()))[h]['full_coverage_shots']:.1f} | {e:+.1f} |")
-    terr = target_errors()
+            print(f"| {h:g} | {dents[h]['full_coverage_shots']:.1f} | {e:+.1f} |")
+    terr = target_errors(data)
     if terr:
         print(f"\n{TARGET} on the 1.2 mm REV, first sequence: N_f against its limit {nref['n0']:.1f}, the profile "
               f"against the {TARGET_REFERENCE_LEVEL} level (not converged: lower bounds)")

@@ -193,6 +193,21 @@ def _is_target(point: str) -> bool:
     return "[target]" in sections and "[almen]" not in sections
 
 
+def _commit() -> str:
+    return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
+                          capture_output=True, text=True).stdout.strip()
+
+
+def _store(key: str, entry: dict) -> None:
+    """Write ``entry`` under ``key`` in the JSON, re-read first (another level may have finished
+    meanwhile), replaced atomically."""
+    data = json.loads(OUT.read_text()) if OUT.exists() else {}
+    data[key] = entry
+    tmp = OUT.with_suffix(".tmp")
+    tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+    tmp.replace(OUT)
+
+
 def run(point: str, levels: list[str]) -> None:
     for level in levels:
         h, side, seqs, dent = _parse_level(level)
@@ -219,13 +234,8 @@ def run(point: str, levels: list[str]) -> None:
         entry["command"] = f"PYTHONPATH=. python benchmarks/bench_reference.py run {point} {level}"
         entry["rev_side_mm"] = side if side is not None else _template_side(point)
         entry["date"] = time.strftime("%Y-%m-%d")
-        entry["commit"] = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                                         capture_output=True, text=True).stdout.strip()
-        data = json.loads(OUT.read_text()) if OUT.exists() else {}  # another level may have finished meanwhile
-        data[key] = entry
-        tmp = OUT.with_suffix(".tmp")
-        tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
-        tmp.replace(OUT)
+        entry["commit"] = _commit()
+        _store(key, entry)
         if target:
             print(f"{key}: peak {entry['peak_MPa']:.1f} MPa at {entry['peak_depth_mm']:.3f} mm, "
                   f"N_c {entry['coverage_shots']:.0f}, CPU {entry['cpu_s']:.0f} s")
@@ -390,14 +400,8 @@ def dent(point: str, sizes: list[str]) -> None:
                  "cpu_s": (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime),
                  "code": str(imp.attrs.get("peenflow_source_hash") or imp.attrs.get("peenflow_code", "")),
                  "command": f"PYTHONPATH=. python benchmarks/bench_reference.py dent {point} {text}",
-                 "date": time.strftime("%Y-%m-%d"),
-                 "commit": subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                                          capture_output=True, text=True).stdout.strip()}
-        data = json.loads(OUT.read_text()) if OUT.exists() else {}
-        data[f"{point}/dent/{h:g}"] = entry
-        tmp = OUT.with_suffix(".tmp")
-        tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
-        tmp.replace(OUT)
+                 "date": time.strftime("%Y-%m-%d"), "commit": _commit()}
+        _store(f"{point}/dent/{h:g}", entry)
         print(f"{point} dent at {h:g} um: N_f {entry['full_coverage_shots']:.2f}, N_c {entry['coverage_shots']:.0f}, "
               f"semi-axes {entry['semi_axis_along_um']:.1f} x {entry['semi_axis_across_um']:.1f} um, "
               f"CPU {entry['cpu_s']:.0f} s", flush=True)

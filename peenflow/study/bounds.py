@@ -119,28 +119,32 @@ def bound_keys() -> list[str]:
     return sorted({b.key for b in BOUNDS} | {k for k, _, _ in RELATIVE_BOUNDS})
 
 
+def _contact_estimates(shot_radius_m: float, shot_density: float, normal_speed: float, E: float, nu: float,
+                       yield_Pa: float) -> tuple[float, float]:
+    """The kernel's (contact radius m, contact time s) estimates (:func:`peenflow.fe.window.contact_estimates`):
+    the larger of the Hertz value and that of Johnson's fully plastic contact at mean pressure 3 A."""
+    mass = shot_density * 4.0 / 3.0 * math.pi * shot_radius_m ** 3
+    v = max(normal_speed, 1e-9)
+    e_star = E / (1.0 - nu ** 2)
+    delta = (15.0 * mass * v ** 2 / (16.0 * e_star * math.sqrt(shot_radius_m))) ** 0.4
+    radius = max(math.sqrt(shot_radius_m * delta),
+                 (2.0 * mass * v ** 2 * shot_radius_m / (math.pi * 3.0 * yield_Pa)) ** 0.25)
+    time = max(2.943 * delta / v, 0.5 * math.pi * math.sqrt(mass / (2.0 * math.pi * shot_radius_m * 3.0 * yield_Pa)))
+    return radius, time
+
+
 def contact_radius_m(shot_radius_m: float, shot_density: float, speed: float, E: float, nu: float,
                      yield_Pa: float) -> float:
-    """The kernel's contact-radius estimate (m): the larger of the Hertz radius and Johnson's fully
-    plastic radius at mean pressure 3 A (:func:`peenflow.fe.impact._contact_estimates`)."""
-    mass = shot_density * 4.0 / 3.0 * math.pi * shot_radius_m ** 3
-    e_star = E / (1.0 - nu ** 2)
-    delta = (15.0 * mass * speed ** 2 / (16.0 * e_star * math.sqrt(shot_radius_m))) ** 0.4
-    hertz = math.sqrt(shot_radius_m * delta)
-    plastic = (2.0 * mass * speed ** 2 * shot_radius_m / (math.pi * 3.0 * yield_Pa)) ** 0.25
-    return max(hertz, plastic)
+    """The kernel's contact-radius estimate (m) at normal ``speed``: the larger of the Hertz radius and
+    Johnson's fully plastic radius at mean pressure 3 A."""
+    return _contact_estimates(shot_radius_m, shot_density, speed, E, nu, yield_Pa)[0]
 
 
 def contact_time_s(shot_radius_m: float, shot_density: float, normal_speed: float, E: float, nu: float,
                    yield_Pa: float) -> float:
     """The kernel's contact-time estimate (s): the larger of the Hertz duration and the plastic one at
-    mean pressure 3 A (:func:`peenflow.fe.window.contact_estimates`)."""
-    mass = shot_density * 4.0 / 3.0 * math.pi * shot_radius_m ** 3
-    v = max(normal_speed, 1e-9)
-    e_star = E / (1.0 - nu ** 2)
-    delta = (15.0 * mass * v ** 2 / (16.0 * e_star * math.sqrt(shot_radius_m))) ** 0.4
-    plastic = 0.5 * math.pi * math.sqrt(mass / (2.0 * math.pi * shot_radius_m * 3.0 * yield_Pa))
-    return max(2.943 * delta / v, plastic)
+    mean pressure 3 A."""
+    return _contact_estimates(shot_radius_m, shot_density, normal_speed, E, nu, yield_Pa)[1]
 
 
 def rev_lateral_elements(side_m: float, element_m: float) -> int:

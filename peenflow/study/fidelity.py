@@ -181,11 +181,6 @@ class Fidelity(ShotScaled):
         """The largest element size the strips run at: the coarse level of an intensity extrapolation, if any."""
         return max(self.element_size_um, self.extrapolate_intensity_from_um or 0.0)
 
-    @property
-    def dent_size_um(self) -> float:
-        """The element size of the target's single impact (its dent ellipse, N_f and N_c)."""
-        return self.element_size_um if self.dent_element_size_um is None else self.dent_element_size_um
-
     # SI helpers; the shot diameter is set by the Study after loading.
     @property
     def element_size_m(self) -> float:
