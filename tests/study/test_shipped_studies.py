@@ -102,3 +102,28 @@ def test_the_extrapolated_whole_paper_is_the_40_and_25_um_studies_levels():
         assert len(mine) == 24 and mine == theirs, stage
     (e,) = {canon["extrapolation"]["order"] for canon in (n.params for n in g.stage_nodes("intensity_extrapolation"))}
     assert e == INTENSITY_ORDER
+
+
+def test_the_literal_studies_are_the_papers_section_4_procedure():
+    """paper_literal_40um.toml is section 4 as the paper states it on the 67.5 deg curve: a 6D x 6D
+    REV with symmetric lateral faces and a 2D x 2D measuring region, the ladder N = 10 ... 480, eq.
+    (10) fitted to it and eq. (11) used wherever it lands; paper_literal.toml is the same at 25 um
+    with the 40 um study's strips as its coarse level (same parameters, so the same keys)."""
+    s = load_study(STUDIES / "paper_literal_40um.toml")
+    a = s.almen
+    assert a.angles_deg == (67.5,) and a.velocities_m_s == (25.0, 35.0, 45.0, 55.0)
+    assert a.shot_counts == (10, 20, 40, 80, 160, 320, 480) and a.saturation_fit == "paper"
+    assert a.rev_rule == "paper" and a.allow_extrapolated_intensity
+    assert s.fidelity.lateral_boundary == "symmetric" and s.fidelity.element_size_m == pytest.approx(40e-6)
+    rev = study_params(s).strip_rev.geometry(d_min=None)
+    assert rev.side == pytest.approx(6 * 0.58e-3) and rev.measuring_side == pytest.approx(2 * 0.58e-3)
+    assert "strip_dmin" not in _stages("paper_literal_40um.toml")  # the paper's REV needs no search
+
+    fine = load_study(STUDIES / "paper_literal.toml")
+    assert fine.fidelity.element_size_m == pytest.approx(25e-6)
+    assert fine.fidelity.extrapolate_intensity_from_um == 40.0
+    g = peenflow.api.load_study_graph(STUDIES / "paper_literal.toml")
+    mine = {n.node_id.split("[", 1)[1]: n.params for n in g.stage_nodes("coarse_strip_runs")}
+    theirs = {n.node_id.split("[", 1)[1]: n.params
+              for n in peenflow.api.load_study_graph(STUDIES / "paper_literal_40um.toml").stage_nodes("strip_runs")}
+    assert len(mine) == 8 and mine == theirs
