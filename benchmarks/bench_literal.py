@@ -2,23 +2,23 @@
 
 Usage (from the repository root)::
 
-    peenflow run studies/paper_literal_40um.toml --workers 2 --threads 1 --until target_velocity
+    peenflow run studies/paper_literal.toml --workers 2 --threads 1 --until target_velocity
     peenflow run studies/paper_fast_extrapolated.toml --workers 2 --threads 1
     PYTHONPATH=. python benchmarks/bench_literal.py
 
 The literal study peens the paper's strip REV (6D x 6D, symmetric lateral faces, 2D x 2D
 measuring region) through the paper's ladder N = 10 ... 480, fits eq. (10) to those rungs and
-solves eq. (11) wherever it lands. Ours (studies/paper_fast_extrapolated.toml) peens a periodic
-1.2 mm REV measured over its whole face through a ladder that extends itself until eq. (11)'s
-saturation point T has a rung at >= 2 T, at 40 um and at 25 um with the same seeds, and
-extrapolates each intensity to zero element size. Printed, on the 67.5 deg curve (the paper's
-12A curve): per velocity each procedure's intensity, the literal one's saturation point T against
-its last rung (480) and its mean arc height at 480 shots; then the velocity for 12A (0.30 mm) of
-each, the converged reference's (BENCHMARKS.md §9) and the paper's 47 m/s, and the differences
-read as the steps from the paper's procedure to the converged one: the literal procedure at
-40 um -> ours at 40 um (ladder and REV together, the same mesh), ours at 40 um -> ours
-extrapolated (the mesh), ours extrapolated -> the converged reference (sampling and the
-extrapolation's error).
+solves eq. (11) wherever it lands, at 40 um (its coarse level, the strips of
+studies/paper_literal_40um.toml) and at 25 um (the paper's mesh), with the same shot streams.
+Ours (studies/paper_fast_extrapolated.toml) peens a periodic 1.2 mm REV measured over its whole
+face through a ladder that extends itself until eq. (11)'s saturation point T has a rung at >= 2 T,
+at 40 and 25 um. Printed, on the 67.5 deg curve (the paper's 12A curve): per literal level and
+velocity the intensity, its spread over sequences, T against the last rung (480) and the mean arc
+height at 480 shots; every curve side by side (the literal levels, the literal curve extrapolated
+to zero element size from its mean-curve intensities and as the study's paired stage does it, our
+levels and ours extrapolated); the velocity for 12A (0.30 mm) of each (PCHIP inverse, as the
+target_velocity stage; for a curve wholly above 0.30 mm also where the line through its two
+lowest points reaches it), the converged reference's (BENCHMARKS.md §9) and the paper's 47 m/s.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from bench_presets import INTENSITY_12A_MM, study_level_errors, velocity_12a  # noqa: E402
 from bench_reference import _results  # noqa: E402
 
-LITERAL = ROOT / "studies" / "paper_literal_40um.toml"
+LITERAL_25 = ROOT / "studies" / "paper_literal.toml"  # its coarse level is paper_literal_40um.toml
 OURS = ROOT / "studies" / "paper_fast_extrapolated.toml"
 ANGLE_DEG = 67.5
 PAPER_12A_M_S = 47.0
@@ -54,41 +54,63 @@ def _v12a(curve: dict[float, float]) -> str:
         return f"{side} {min(curve) if side == 'below' else max(curve):g} (out of the curve)"
 
 
-def main() -> None:
-    (lit,) = _results(LITERAL, "saturation")
-    ext, fine, coarse = _results(OURS, "intensity_extrapolation", "saturation", "coarse_saturation")
-    lit_i = _curve(lit)
+def _literal_table(lit) -> dict[str, dict[float, float]]:
+    """Per velocity: the literal level's intensity, its saturation point T, the mean arc height at the
+    last rung, the spread over sequences (mm) and the number of sequences."""
     sel = lambda var: lit[var].sel(angle_deg=ANGLE_DEG) if "angle_deg" in lit[var].dims else lit[var]  # noqa: E731
-    t = dict(zip(lit_i, np.asarray(sel("saturation_shots"), float)))
-    at_last = dict(zip(lit_i, np.asarray(sel("mean_arc_height_m").sel(shots=LITERAL_LAST_RUNG), float) * 1e3))
-    spread = dict(zip(lit_i, np.asarray(sel("intensity_std_m"), float) * 1e3))
-    nseq = dict(zip(lit_i, np.asarray(sel("sequence_intensity_m").count("sequence"))))
-    curves = {"literal 40 um": lit_i, "ours 40 um": _curve(coarse), "ours 25 um": _curve(fine),
-              "ours extrapolated": _curve(ext)}
+    v = [float(x) for x in np.asarray(lit.velocity_m_s)]
+    col = lambda a, f=1.0: dict(zip(v, np.asarray(a, float) * f))  # noqa: E731
+    return {"I": col(sel("intensity_m"), 1e3), "T": col(sel("saturation_shots")),
+            "Ah_last": col(sel("mean_arc_height_m").sel(shots=LITERAL_LAST_RUNG), 1e3),
+            "spread": col(sel("intensity_std_m"), 1e3), "n": col(sel("sequence_intensity_m").count("sequence"))}
+
+
+def _linear_12a(curve: dict[float, float]) -> float:
+    """m/s where the straight line through the curve's two lowest-velocity points reaches 12A (an
+    extension below the curve, for a curve whose every point is above 0.30 mm)."""
+    (v0, i0), (v1, i1) = sorted(curve.items())[:2]
+    return v0 + (INTENSITY_12A_MM - i0) * (v1 - v0) / (i1 - i0)
+
+
+def main() -> None:
+    lit40, lit25, lit_ext = _results(LITERAL_25, "coarse_saturation", "saturation", "intensity_extrapolation")
+    ext, fine, coarse = _results(OURS, "intensity_extrapolation", "saturation", "coarse_saturation")
+    tables = {"40 um": _literal_table(lit40), "25 um": _literal_table(lit25)}
+    k = float(lit_ext.attrs["extrapolation_factor"])
+    # the extrapolation of the mean-curve intensities (the study's own is paired per sequence, and a
+    # sequence whose eq. (11) lands far beyond its ladder makes that pairing meaningless: printed too)
+    lit_mean_ext = {v: tables["25 um"]["I"][v] + k * (tables["25 um"]["I"][v] - tables["40 um"]["I"][v])
+                    for v in tables["25 um"]["I"]}
+    curves = {"literal 40 um": tables["40 um"]["I"], "literal 25 um": tables["25 um"]["I"],
+              "literal extrapolated (mean curves)": lit_mean_ext,
+              "literal extrapolated (study, paired)": _curve(lit_ext),
+              "ours 40 um": _curve(coarse), "ours 25 um": _curve(fine), "ours extrapolated": _curve(ext)}
     refs = study_level_errors()["reference"]
     ref_v = refs["velocity_12a_m_s"]
 
-    print(f"67.5 deg control curve, intensity mm (literal: 6D x 6D REV, N <= {LITERAL_LAST_RUNG}, eq. (11) "
-          "extrapolated; ours: periodic 1.2 mm, saturated inside its ladder)\n")
-    print("| velocity m/s | literal: intensity (seq., spread) | literal: T shots | literal: Ah(480) | "
-          "ours 40 um | ours 25 um | ours extrapolated |")
-    print("|---|---|---|---|---|---|---|")
-    for v in sorted(lit_i):
-        print(f"| {v:g} | {lit_i[v]:.4f} ({nseq[v]}, ± {spread[v]:.4f}) | {t[v]:.0f} | {at_last[v]:.4f} | "
-              + " | ".join(f"{curves[k].get(v, float('nan')):.4f}" for k in list(curves)[1:]) + " |")
+    print(f"67.5 deg control curve (literal: 6D x 6D REV, symmetric faces, 2D x 2D measuring region, "
+          f"N <= {LITERAL_LAST_RUNG}, eq. (11) wherever it lands; ours: periodic 1.2 mm REV over its whole face, "
+          "saturated inside its ladder); intensities mm\n")
+    for level, t in tables.items():
+        print(f"literal, {level}:")
+        print("| velocity m/s | intensity (seq., spread) | T shots | Ah(480) mm |")
+        print("|---|---|---|---|")
+        for v in sorted(t["I"]):
+            print(f"| {v:g} | {t['I'][v]:.4f} ({t['n'][v]:.0f}, ± {t['spread'][v]:.4f}) | {t['T'][v]:.0f} | "
+                  f"{t['Ah_last'][v]:.4f} |")
+        print()
+    names = list(curves)
+    print("| velocity m/s | " + " | ".join(names) + " |")
+    print("|---|" + "---|" * len(names))
+    for v in sorted(lit_mean_ext):
+        print(f"| {v:g} | " + " | ".join(f"{curves[n].get(v, float('nan')):.4f}" for n in names) + " |")
     print("\nvelocity for 12A (0.30 mm), m/s:")
-    v12 = {k: _v12a(c) for k, c in curves.items()}
-    for k, x in v12.items():
-        print(f"  {k}: {x}")
+    for name, c in curves.items():
+        line = f"  {name}: {_v12a(c)}"
+        if min(c.values()) > INTENSITY_12A_MM:
+            line += f"; the line through its two lowest points reaches 0.30 mm at {_linear_12a(c):.1f}"
+        print(line)
     print(f"  converged reference: {ref_v:.2f}\n  paper: {PAPER_12A_M_S:g}")
-    num = {k: float(x) for k, x in v12.items() if x.replace(".", "", 1).isdigit()}
-    if {"literal 40 um", "ours 40 um", "ours extrapolated"} <= set(num):
-        print("\nsteps, m/s:")
-        print(f"  paper -> literal 40 um (what our kernel and material data do with the paper's "
-              f"procedure): {num['literal 40 um'] - PAPER_12A_M_S:+.2f}")
-        print(f"  literal 40 um -> ours 40 um (ladder and REV): {num['ours 40 um'] - num['literal 40 um']:+.2f}")
-        print(f"  ours 40 um -> ours extrapolated (mesh): {num['ours extrapolated'] - num['ours 40 um']:+.2f}")
-        print(f"  ours extrapolated -> converged reference: {ref_v - num['ours extrapolated']:+.2f}")
 
 
 if __name__ == "__main__":
