@@ -1,24 +1,39 @@
 """Regenerate ``driver_golden.json``: digests of the driver's outputs on small cases (run from the repository root).
 
-    .venv/bin/python tests/fe/data/make_driver_golden.py
+    .venv/bin/python tests/fe/data/make_driver_golden.py            # rewrite the file
+    .venv/bin/python tests/fe/data/make_driver_golden.py --print    # print the digests as JSON (the test)
 
 The file pins :func:`peenflow.fe.impact.run_impacts` bit for bit
 (``tests/fe/test_driver_golden.py``); it was first written on main 88837bb,
 before the driver was split into small steps. Regenerate it only for a
 change meant to alter the kernel's numbers, and say so in the commit.
+
+The multigrid's setup and coarsest solve go through LAPACK / BLAS, whose
+OpenBLAS kernels are chosen per CPU at load time and differ in summation
+order (the relaxed outputs then differ in their last bits between, say, an
+AVX2 and an AVX-512 machine). So this script runs with one thread and the
+OpenBLAS kernel set pinned to :data:`BLAS_CORETYPE` (AVX2, which every x86-64
+machine this project runs on has); it must be set before numpy loads, which
+is why the test runs this script in a subprocess.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import os
 import sys
 import time
 import warnings
 from pathlib import Path
 
-import numpy as np
-from threadpoolctl import threadpool_limits
+#: OpenBLAS kernel set the digests are written and checked with (see the module docstring)
+BLAS_CORETYPE = "Haswell"
+os.environ["OPENBLAS_CORETYPE"] = BLAS_CORETYPE
+os.environ["OPENBLAS_NUM_THREADS"] = "1"
+
+import numpy as np  # noqa: E402
+from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[3]))
 
@@ -126,8 +141,25 @@ def digest(a: np.ndarray) -> dict:
     return {"sha256": hashlib.sha256(a.tobytes()).hexdigest(), "shape": list(a.shape), "sum": total}
 
 
+def blas_coretypes() -> set[str]:
+    """The kernel sets ('architecture') of the OpenBLAS libraries loaded in this process."""
+    return {str(i.get("architecture")) for i in threadpool_info() if i.get("internal_api") == "openblas"}
+
+
 if __name__ == "__main__":
-    path = Path(__file__).with_name("driver_golden.json")
-    out = {k: digest(v) for k, v in golden(sys.argv[1:]).items()}
-    path.write_text(json.dumps(out, indent=0, sort_keys=True) + "\n")
-    print(f"wrote {path} ({len(out)} outputs)")
+    cores = blas_coretypes()
+    if cores != {BLAS_CORETYPE}:
+        raise SystemExit(f"OpenBLAS kernels {sorted(cores)}, not {BLAS_CORETYPE}: digests would not be comparable")
+    if sys.argv[1:2] == ["--print"]:
+        with open(os.devnull, "w") as quiet:  # golden() reports each case's CPU time on stdout
+            real, sys.stdout = sys.stdout, quiet
+            try:
+                out = {k: digest(v) for k, v in golden().items()}
+            finally:
+                sys.stdout = real
+        print(json.dumps(out, sort_keys=True))
+    else:
+        path = Path(__file__).with_name("driver_golden.json")
+        out = {k: digest(v) for k, v in golden(sys.argv[1:]).items()}
+        path.write_text(json.dumps(out, indent=0, sort_keys=True) + "\n")
+        print(f"wrote {path} ({len(out)} outputs)")
