@@ -40,36 +40,45 @@ PAPER_12A_M_S = 47.0
 LITERAL_LAST_RUNG = 480
 
 
-def _curve(ds, var="intensity_m") -> dict[float, float]:
-    """{velocity m/s: intensity mm} of the 67.5 deg points of a saturation-like Dataset."""
-    da = ds[var].sel(angle_deg=ANGLE_DEG) if "angle_deg" in ds[var].dims else ds[var]
-    return {float(v): float(x) * 1e3 for v, x in zip(np.asarray(da.velocity_m_s), np.asarray(da))}
+def _at_angle(ds, var: str):
+    """``ds[var]`` at 67.5 deg (a study with one angle may have no angle dimension left)."""
+    return ds[var].sel(angle_deg=ANGLE_DEG) if "angle_deg" in ds[var].dims else ds[var]
+
+
+def _by_velocity(ds, var: str, scale: float = 1.0) -> dict[float, float]:
+    """{velocity m/s: value * scale} of ``var`` on the 67.5 deg points of a saturation-like Dataset."""
+    da = _at_angle(ds, var)
+    return {float(v): float(x) * scale for v, x in zip(np.asarray(da.velocity_m_s), np.asarray(da, float))}
+
+
+def _curve(ds) -> dict[float, float]:
+    """{velocity m/s: intensity mm} of the 67.5 deg points."""
+    return _by_velocity(ds, "intensity_m", 1e3)
 
 
 def _v12a(curve: dict[float, float]) -> str:
+    """The 12A velocity of the curve (PCHIP inverse); for a curve wholly above 0.30 mm, also where the
+    straight line through its two lowest-velocity points reaches it (an extension below the curve)."""
     try:
         return f"{velocity_12a(curve):.2f}"
-    except ValueError:  # 0.30 mm outside the curve: say on which side
-        side = "below" if min(curve.values()) > INTENSITY_12A_MM else "above"
-        return f"{side} {min(curve) if side == 'below' else max(curve):g} (out of the curve)"
+    except ValueError:  # 0.30 mm outside the curve
+        if min(curve.values()) <= INTENSITY_12A_MM:
+            return f"above {max(curve):g} (out of the curve)"
+        (v0, i0), (v1, i1) = sorted(curve.items())[:2]
+        line = v0 + (INTENSITY_12A_MM - i0) * (v1 - v0) / (i1 - i0)
+        return (f"below {min(curve):g} (out of the curve); the line through its two lowest points reaches "
+                f"0.30 mm at {line:.1f}")
 
 
 def _literal_table(lit) -> dict[str, dict[float, float]]:
     """Per velocity: the literal level's intensity, its saturation point T, the mean arc height at the
     last rung, the spread over sequences (mm) and the number of sequences."""
-    sel = lambda var: lit[var].sel(angle_deg=ANGLE_DEG) if "angle_deg" in lit[var].dims else lit[var]  # noqa: E731
-    v = [float(x) for x in np.asarray(lit.velocity_m_s)]
-    col = lambda a, f=1.0: dict(zip(v, np.asarray(a, float) * f))  # noqa: E731
-    return {"I": col(sel("intensity_m"), 1e3), "T": col(sel("saturation_shots")),
-            "Ah_last": col(sel("mean_arc_height_m").sel(shots=LITERAL_LAST_RUNG), 1e3),
-            "spread": col(sel("intensity_std_m"), 1e3), "n": col(sel("sequence_intensity_m").count("sequence"))}
-
-
-def _linear_12a(curve: dict[float, float]) -> float:
-    """m/s where the straight line through the curve's two lowest-velocity points reaches 12A (an
-    extension below the curve, for a curve whose every point is above 0.30 mm)."""
-    (v0, i0), (v1, i1) = sorted(curve.items())[:2]
-    return v0 + (INTENSITY_12A_MM - i0) * (v1 - v0) / (i1 - i0)
+    return {"I": _curve(lit), "T": _by_velocity(lit, "saturation_shots"),
+            "Ah_last": {v: float(x) * 1e3 for v, x in zip(np.asarray(lit.velocity_m_s), np.asarray(
+                _at_angle(lit, "mean_arc_height_m").sel(shots=LITERAL_LAST_RUNG)))},
+            "spread": _by_velocity(lit, "intensity_std_m", 1e3),
+            "n": {float(v): int(c) for v, c in zip(np.asarray(lit.velocity_m_s),
+                                                   np.asarray(_at_angle(lit, "sequence_intensity_m").count("sequence")))}}
 
 
 def main() -> None:
@@ -96,7 +105,7 @@ def main() -> None:
         print("| velocity m/s | intensity (seq., spread) | T shots | Ah(480) mm |")
         print("|---|---|---|---|")
         for v in sorted(t["I"]):
-            print(f"| {v:g} | {t['I'][v]:.4f} ({t['n'][v]:.0f}, ± {t['spread'][v]:.4f}) | {t['T'][v]:.0f} | "
+            print(f"| {v:g} | {t['I'][v]:.4f} ({t['n'][v]}, ± {t['spread'][v]:.4f}) | {t['T'][v]:.0f} | "
                   f"{t['Ah_last'][v]:.4f} |")
         print()
     names = list(curves)
@@ -106,10 +115,7 @@ def main() -> None:
         print(f"| {v:g} | " + " | ".join(f"{curves[n].get(v, float('nan')):.4f}" for n in names) + " |")
     print("\nvelocity for 12A (0.30 mm), m/s:")
     for name, c in curves.items():
-        line = f"  {name}: {_v12a(c)}"
-        if min(c.values()) > INTENSITY_12A_MM:
-            line += f"; the line through its two lowest points reaches 0.30 mm at {_linear_12a(c):.1f}"
-        print(line)
+        print(f"  {name}: {_v12a(c)}")
     print(f"  converged reference: {ref_v:.2f}\n  paper: {PAPER_12A_M_S:g}")
 
 

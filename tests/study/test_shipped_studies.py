@@ -88,19 +88,21 @@ def test_quickstart_is_coarse_and_runs_the_whole_chain():
     assert math.isfinite(s.target.material.dilatational_wave_speed_m_s)
 
 
+def _point_params(name, stage):
+    """{point label: canonical parameters} of a stage of a shipped study (what its result keys hash)."""
+    return {n.node_id.split("[", 1)[1]: n.params for n in peenflow.api.load_study_graph(STUDIES / name).stage_nodes(stage)}
+
+
 def test_the_extrapolated_whole_paper_is_the_40_and_25_um_studies_levels():
     """paper_fast_extrapolated.toml runs the strips of paper_fast_25um.toml (25 um) and of
     paper_fast.toml (40 um) -- the same parameters, so the same keys and shot streams -- and
     extrapolates from them with the measured order."""
     from peenflow.study.accuracy import INTENSITY_ORDER
 
-    g = peenflow.api.load_study_graph(STUDIES / "paper_fast_extrapolated.toml")
     for stage, other in (("strip_runs", "paper_fast_25um.toml"), ("coarse_strip_runs", "paper_fast.toml")):
-        mine = {n.node_id.split("[", 1)[1]: n.params for n in g.stage_nodes(stage)}
-        theirs = {n.node_id.split("[", 1)[1]: n.params
-                  for n in peenflow.api.load_study_graph(STUDIES / other).stage_nodes("strip_runs")}
-        assert len(mine) == 24 and mine == theirs, stage
-    (e,) = {canon["extrapolation"]["order"] for canon in (n.params for n in g.stage_nodes("intensity_extrapolation"))}
+        mine = _point_params("paper_fast_extrapolated.toml", stage)
+        assert len(mine) == 24 and mine == _point_params(other, "strip_runs"), stage
+    (e,) = {p["extrapolation"]["order"] for p in _point_params("paper_fast_extrapolated.toml", "intensity_extrapolation").values()}
     assert e == INTENSITY_ORDER
 
 
@@ -122,8 +124,5 @@ def test_the_literal_studies_are_the_papers_section_4_procedure():
     fine = load_study(STUDIES / "paper_literal.toml")
     assert fine.fidelity.element_size_m == pytest.approx(25e-6)
     assert fine.fidelity.extrapolate_intensity_from_um == 40.0
-    g = peenflow.api.load_study_graph(STUDIES / "paper_literal.toml")
-    mine = {n.node_id.split("[", 1)[1]: n.params for n in g.stage_nodes("coarse_strip_runs")}
-    theirs = {n.node_id.split("[", 1)[1]: n.params
-              for n in peenflow.api.load_study_graph(STUDIES / "paper_literal_40um.toml").stage_nodes("strip_runs")}
-    assert len(mine) == 8 and mine == theirs
+    mine = _point_params("paper_literal.toml", "coarse_strip_runs")
+    assert len(mine) == 8 and mine == _point_params("paper_literal_40um.toml", "strip_runs")
