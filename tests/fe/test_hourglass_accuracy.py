@@ -25,37 +25,53 @@ DATA = json.loads((BENCH / "reference" / "hourglass.json").read_text())
 
 # relative tolerances (restitution: absolute) at 25 um: the goal of issue 13 §1
 GOAL_25 = dict(dent_um=0.03, dent_radius_mm=0.03, sxx_peak_mpa=0.03, zero_depth_mm=0.03, crest_radius_mm=0.05,
-               crest_height_um=0.15, restitution=0.02)
+               crest_height_um=0.15, restitution=0.02, profile_rms=0.04)
 # at 50 um the pile-up crest is two elements wide and not resolved (errors of 15-130 %, BENCHMARKS.md 4c):
 # the 50 um tests hold the dent, the stress and the rebound
-GOAL_50 = dict(dent_um=0.08, dent_radius_mm=0.08, sxx_peak_mpa=0.08, zero_depth_mm=0.08, restitution=0.02)
+GOAL_50 = dict(dent_um=0.08, dent_radius_mm=0.08, sxx_peak_mpa=0.08, zero_depth_mm=0.08, restitution=0.02,
+               profile_rms=0.08)
 # where the physical element misses the goal: (case, h um, quantity) -> the measured |error| + 0.5 %
 # rounded up to whole per cent (restitution: absolute; hg_over_int: the ratio itself); BENCHMARKS.md 4c.
 # Measured 2026-12-01 with the surface line interpolated by a makima spline and the sigma_xx column
 # centred on the dent (bench_hourglass.py docstring); every entry is at or below the one it replaces.
 # Crest position and height and the 25 m/s dent's edge are near the sampling limit of a 25 um
 # surface (test_surface_metric_on_a_coarser_sampling_of_the_same_line); the sigma_xx peak under the
-# 45 deg dent converges slowly (+13 / +5 % at 25 / 12.5 um, order ~0.6).
+# 45 deg dent converges slowly (+14 / +5 % at 25 / 12.5 um, order ~0.6).
+# Since 2026-12-02 sigma_xx(z) is read on the curve recovered from the layer means (peak, its depth,
+# zero crossing, profile RMS; bench_hourglass.profile_curve): the 45 deg entries are those of that
+# reading, and the profile RMS joins the checked quantities (goal 4 % at 25 um, 8 % at 50 um: now
+# met at 25 um on three of four cases, 1.2-3.9 %, where the straight lines between mid-depths read
+# 2.1-7.7 %). Read so, a perfect element seen through 25 um layers is within 1.9 % on the peak and
+# 0.9 % on the zero crossing (straight lines: 1.1 / 0.9 %), so the new entries below are the
+# element's: the 25 m/s zero crossing -4.8 % (-2.6 % read by straight lines) and peak +3.4 %
+# (+2.4 %), the 45 deg peak +14.4 % (+13.0 %); at 50 um the entries moved both ways.
 MISSED = {
     ('al-47-65', 25, 'crest_radius_mm'): 0.11,
     ('sae-25-90', 25, 'dent_radius_mm'): 0.07,
     ('sae-25-90', 25, 'dent_um'): 0.05,
     ('sae-25-90', 25, 'hg_over_int'): 0.08,
+    ('sae-25-90', 25, 'sxx_peak_mpa'): 0.04,
+    ('sae-25-90', 25, 'zero_depth_mm'): 0.06,
     ('sae-25-90', 50, 'dent_radius_mm'): 0.33,
+    ('sae-25-90', 50, 'profile_rms'): 0.13,
     ('sae-25-90', 50, 'restitution'): 0.07,
-    ('sae-25-90', 50, 'sxx_peak_mpa'): 0.25,
-    ('sae-25-90', 50, 'zero_depth_mm'): 0.11,
+    ('sae-25-90', 50, 'sxx_peak_mpa'): 0.14,
+    ('sae-25-90', 50, 'zero_depth_mm'): 0.15,
     ('sae-55-45', 25, 'crest_height_um'): 0.26,
     ('sae-55-45', 25, 'crest_radius_mm'): 0.15,
     ('sae-55-45', 25, 'dent_radius_mm'): 0.06,
     ('sae-55-45', 25, 'dent_um'): 0.05,
     ('sae-55-45', 25, 'hg_over_int'): 0.07,
-    ('sae-55-45', 25, 'sxx_peak_mpa'): 0.14,
+    ('sae-55-45', 25, 'profile_rms'): 0.08,
+    ('sae-55-45', 25, 'sxx_peak_mpa'): 0.15,
     ('sae-55-45', 50, 'dent_radius_mm'): 0.15,
-    ('sae-55-45', 50, 'sxx_peak_mpa'): 0.21,
+    ('sae-55-45', 50, 'profile_rms'): 0.17,
+    ('sae-55-45', 50, 'sxx_peak_mpa'): 0.29,
+    ('sae-55-45', 50, 'zero_depth_mm'): 0.09,
     ('sae-55-90', 25, 'crest_height_um'): 0.18,
     ('sae-55-90', 25, 'crest_radius_mm'): 0.11,
-    ('sae-55-90', 50, 'sxx_peak_mpa'): 0.1,
+    ('sae-55-90', 50, 'profile_rms'): 0.16,
+    ('sae-55-90', 50, 'zero_depth_mm'): 0.12,
 }
 
 
@@ -66,9 +82,12 @@ def _check(case, h_um, goal):
     errors = {}
     for key, tol in goal.items():
         tol = MISSED.get((case, h_um, key), tol)
-        err = got[key] - ref[key] if key == "restitution" else got[key] / ref[key] - 1.0
+        if key == "profile_rms":
+            err = bh.profile_rms(got, ref)
+        else:
+            err = got[key] - ref[key] if key == "restitution" else got[key] / ref[key] - 1.0
         errors[key] = err
-        assert abs(err) <= tol, f"{case} at {h_um} um: {key} {got[key]:.4g} vs reference {ref[key]:.4g}"
+        assert abs(err) <= tol, f"{case} at {h_um} um: {key} error {err:+.4g} (tolerance {tol:g})"
     return got, errors
 
 
@@ -107,3 +126,17 @@ def test_surface_metric_on_a_coarser_sampling_of_the_same_line():
         assert r["dent_radius_worst_um"] <= 7.5, r
         assert abs(r["crest_radius_bias_um"]) <= 9.0, r
         assert r["crest_radius_worst_um"] <= 15.0, r
+
+
+def test_profile_reading_on_coarser_layers_of_the_same_profile():
+    """The sigma_xx(z) reading itself, not the element: each stored 6.25 um column profile averaged
+    over 25 um layers (what a perfect 25 um element would give: one-point elements hold their
+    element's mean). Read on the curve recovered from the layer means it stays within 3 % (RMS of
+    the peak) of the full profile on every case, below the 4 % goal (measured 0.3-2.7 %); joined
+    by straight lines between mid-depths it was 2.5-7.8 % off, at least twice as far, so that
+    reading charged the element with most of its 25 um profile error (BENCHMARKS.md 4c)."""
+    rows = bh.profile_sampling_bias(DATA, step=4)
+    assert {r["run"].split("/")[0] for r in rows} == set(bh.CASES)
+    for r in rows:
+        assert r["recovered"] <= 0.03, r
+        assert r["lines"] >= 2.0 * r["recovered"], r

@@ -79,3 +79,50 @@ def test_equilibrium_residual_flags_unbalanced_profiles():
     zz = np.linspace(0, h, 2001)
     res = equilibrium_residual(DepthProfile(zz, np.cos(2 * np.pi * zz / h), "linear"), h)
     assert res.is_self_equilibrated(rtol=1e-5)
+
+
+def _layer_means(sigma, edges):
+    from scipy.integrate import quad
+
+    return np.array([quad(sigma, a, b)[0] / (b - a) for a, b in zip(edges[:-1], edges[1:])])
+
+
+def test_point_values_recover_a_quadratic_exactly_and_keep_every_layer_mean():
+    """A stress quadratic in depth has a cubic running integral, which the not-a-knot spline
+    reproduces: its layer means on uneven layers give back sigma(z) itself, to round-off; and
+    every layer's mean of the recovered curve is the layer value it came from."""
+    from scipy.integrate import quad
+
+    edges = np.array([0.0, 1.0, 2.5, 4.0, 6.0, 9.0, 13.0]) * 1e-5
+    quadratic = lambda z: 3e8 - 2e13 * z + 7e17 * z**2  # noqa: E731
+    prof = DepthProfile(edges, _layer_means(quadratic, edges))
+    z = np.linspace(0.0, edges[-1], 57)
+    assert np.max(np.abs(prof.point_values(z) - quadratic(z))) <= 1e-9 * 3e8
+    smooth = lambda z: -1e9 * np.exp(-((z / 4e-5) ** 2)) + 1e8  # noqa: E731
+    prof = DepthProfile(edges, _layer_means(smooth, edges))
+    for a, b, mean in zip(edges[:-1], edges[1:], prof.values):
+        assert quad(lambda t: float(prof.point_values(t)), a, b)[0] / (b - a) == pytest.approx(mean, rel=1e-9)
+    assert np.isnan(prof.point_values([-1e-6, 2e-4])).all()
+
+
+def test_point_values_of_a_peening_like_profile_converge_at_third_order():
+    """sigma(z) = -1 GPa (1 + 3 z / L) exp(-(z / L)^2) + 0.2 GPa exp(-z / 3L), L = 0.1 mm (a
+    compressive peak below the surface, a tensile tail): recovered from its layer means at 25 /
+    12.5 / 6.25 um layers, the largest error over 0-0.4 mm (surface included) falls at order
+    near 3 (measured 2.4 then 2.85), and at 25 um it is within 3 % of the 1 GPa scale, where
+    straight lines between mid-depths (with the top layer's value up to the surface) are
+    off by 35 % (the surface) and 6.8 % below the first layer."""
+    L = 1e-4
+    sigma = lambda z: -1e9 * (1 + 3 * z / L) * np.exp(-((z / L) ** 2)) + 2e8 * np.exp(-z / (3 * L))  # noqa: E731
+    z = np.linspace(0.0, 4e-4, 4001)
+    errors, lines = [], []
+    for h in (25e-6, 12.5e-6, 6.25e-6):
+        edges = np.arange(0.0, 4e-4 + h / 2, h)
+        prof = DepthProfile(edges, _layer_means(sigma, edges))
+        errors.append(np.max(np.abs(prof.point_values(z) - sigma(z))))
+        mid = 0.5 * (edges[1:] + edges[:-1])
+        lines.append(np.max(np.abs(np.interp(z, mid, prof.values) - sigma(z))[z > h]))
+    assert errors[0] <= 0.03 * 1e9
+    assert lines[0] >= 0.06 * 1e9
+    orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert orders[1] >= 2.6 and orders[1] > orders[0], orders

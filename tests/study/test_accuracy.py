@@ -156,14 +156,17 @@ def test_an_extrapolating_study_states_the_extrapolation_s_error(tmp_path):
 def test_the_target_numbers_are_the_measured_ones():
     """N_F_LIMIT, DENT_LEVEL_NF and TARGET_PROFILE equal what bench_presets computes from
     study_level.json (the dent levels' first-order N_f limit; the target's first-sequence profile
-    against its 16 um level), to the 0.1 % they are rounded to; studies state them, a study with
+    against the converged one: the 0.9 mm REV's Richardson peak and its 12.5 um level), to the 0.1 %
+    they are rounded to; studies state them, a study with
     fidelity.dent_element_size_um its dent's N_f error."""
     import sys
 
     sys.path.insert(0, str(REPO / "benchmarks"))
-    from bench_presets import n_f_reference, target_errors
+    from bench_presets import n_f_reference, target_errors, target_reference
 
-    from peenflow.study.accuracy import DENT_LEVEL_NF, N_F_LIMIT, TARGET_PROFILE
+    from peenflow.study.accuracy import DENT_LEVEL_NF, N_F_LIMIT, TARGET_PROFILE, TARGET_PROFILE_PEAK_MPA
+
+    assert round(target_reference()["peak_MPa"], 1) == TARGET_PROFILE_PEAK_MPA  # the converged peak stated
 
     nref = n_f_reference()
     assert round(nref["n0"], 1) == N_F_LIMIT
