@@ -18,6 +18,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_hourglass.py remetric                # surface figures again from the stored lines
     PYTHONPATH=. python benchmarks/bench_hourglass.py bias                    # the surface metric on coarser samplings
     PYTHONPATH=. python benchmarks/bench_hourglass.py profile-bias            # the sigma_xx(z) reading on coarser layers
+    PYTHONPATH=. python benchmarks/bench_hourglass.py offsets                 # the shot aimed between nodes (25, 50 um)
 
 Every run is stored (metrics, CPU s, the command) in
 ``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
@@ -322,13 +323,15 @@ def metrics(res, mesh: BoxMesh) -> dict:
     return out
 
 
-def run(case: str, element: str, h_um: float) -> dict:
+def run(case: str, element: str, h_um: float, offset: float = 0.0) -> dict:
+    """One run of ``case``; ``offset``: the shot's aim along the plane of incidence in elements from a
+    node (0: on a node, the tables' runs; else on the half model, normal impacts too)."""
     mat, speed, angle = CASES[case]
-    oblique = angle != 90.0
+    oblique = angle != 90.0 or offset != 0.0
     mesh = block(h_um * 1e-6, oblique)
     th = np.radians(angle)
-    shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[speed * np.array([np.cos(th), 0.0, np.sin(th)])],
-                  radius=R, density=7800.0)
+    shots = Shots(centres=[[offset * h_um * 1e-6, 0.0, -R - 1e-6]],
+                  velocities=[speed * np.array([np.cos(th), 0.0, np.sin(th)])], radius=R, density=7800.0)
     opt = Options(window=False, record=True, record_every=20, **ELEMENTS[element])
     # compile (or load) the kernels outside the timing: a tiny impact on a 100 um mesh
     tiny = BoxMesh(*(np.arange(5) * 1e-4,) * 2, np.arange(4) * 1e-4)
@@ -339,8 +342,59 @@ def run(case: str, element: str, h_um: float) -> dict:
     res = run_impacts(Target(mesh), Material(**mat), shots, opt)
     out = metrics(res, mesh)
     out.update(cpu_s=time.process_time() - t0, wall_s=time.perf_counter() - w0, elements=mesh.n_elements,
-               command=f"PYTHONPATH=. python benchmarks/bench_hourglass.py run {case} {element} {h_um:g}")
+               command=f"PYTHONPATH=. python benchmarks/bench_hourglass.py run {case} {element} {h_um:g}"
+                       + (f" {offset:g}" if offset else ""), offset_elements=offset)
     return out
+
+
+#: shot aims, in elements from a node along the plane of incidence, of the ``offsets`` runs
+OFFSETS = (0.0, 0.25, 0.5, 0.75)
+OFFSET_SIZES = (60.0, 50.0, 40.0, 25.0, 12.5)
+
+
+def offset_key(case: str, h_um: float, offset: float) -> str:
+    return f"{case}/physical-offset/{h_um:g}/{offset:g}"
+
+
+def offset_table(sizes=OFFSET_SIZES) -> None:
+    """Errors of the physical element against the references when the shot lands anywhere on the
+    element grid, as it does in a REV: per case and size, the mean and the range over the aims of
+    :data:`OFFSETS` (all on the half model; the reference is the node-aimed 6.25 um run)."""
+    data = _load()
+    print("\n| case | h um | aims | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS |")
+    print("|---|---|---|" + "---|" * (len(QUANTITIES) + 1))
+    worst: dict = {}
+    for case in CASES:
+        ref, _ = reference(data, case)
+        for h in sizes:
+            runs = [data[k] for k in (offset_key(case, h, o) for o in OFFSETS) if k in data]
+            if not runs:
+                continue
+            cells = []
+            for k, _, kind in QUANTITIES + (("profile_rms", "profile RMS", "rms"),):
+                if kind == "rms":
+                    e = np.array([profile_rms(v, ref) for v in runs])
+                else:
+                    e = np.array([v[k] - ref[k] if kind == "abs" else v[k] / ref[k] - 1 for v in runs])
+                worst.setdefault((h, k), []).extend(np.abs(e).tolist())
+                if kind == "abs":
+                    cells.append(f"{e.mean():+.3f} ({e.min():+.3f} … {e.max():+.3f})")
+                elif kind == "rms":
+                    cells.append(f"{100 * e.mean():.1f} % ({100 * e.min():.1f} … {100 * e.max():.1f})")
+                else:
+                    cells.append(f"{100 * e.mean():+.1f} % ({100 * e.min():+.1f} … {100 * e.max():+.1f})")
+            print(f"| {case} | {h:g} | {len(runs)} | " + " | ".join(cells) + " |")
+    print("\nWorst |error| over the four cases and the four aims per element size:\n")
+    print("| h um | runs | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS |")
+    print("|---|---|" + "---|" * (len(QUANTITIES) + 1))
+    for h in sizes:
+        if (h, "dent_um") not in worst:
+            continue
+        cells = []
+        for k, _, kind in QUANTITIES + (("profile_rms", "profile RMS", "rms"),):
+            w = max(worst[(h, k)])
+            cells.append(f"{w:.3f}" if kind == "abs" else f"{100 * w:.1f} %")
+        print(f"| {h:g} | {len(worst[(h, 'dent_um')])} | " + " | ".join(cells) + " |")
 
 
 def _load() -> dict:
@@ -548,10 +602,19 @@ if __name__ == "__main__":
         legacy()
     elif sys.argv[1] == "cost":
         cost()
+    elif sys.argv[1] == "offsets":  # every case at each aim of OFFSETS (sizes um: arguments), stored; the table
+        sizes = tuple(float(a) for a in sys.argv[2:]) or OFFSET_SIZES
+        for case in CASES:
+            for h in sizes:
+                for o in OFFSETS:
+                    if offset_key(case, h, o) not in _load():
+                        _store(offset_key(case, h, o), run(case, "physical", h, o))
+        offset_table()
     elif sys.argv[1] == "run":
         case, element, h = sys.argv[2], sys.argv[3], float(sys.argv[4])
-        out = run(case, element, h)
-        _store(f"{case}/{element}/{h:g}", out)
+        off = float(sys.argv[5]) if len(sys.argv) > 5 else 0.0
+        out = run(case, element, h, off)
+        _store(offset_key(case, h, off) if off else f"{case}/{element}/{h:g}", out)
         print(json.dumps({k: v for k, v in out.items() if not k.startswith("profile")}, indent=1))
     else:
         table()

@@ -75,13 +75,26 @@ MISSED = {
 }
 
 
-def _check(case, h_um, goal):
+# the shot aimed half an element off a node (bench_hourglass.py offsets; BENCHMARKS.md 4c, "Shots
+# between nodes"): the worst aim of the 25 m/s dent, whose deepest point then falls between nodes
+MISSED_BETWEEN_NODES = {
+    ('sae-25-90', 25, 'crest_height_um'): 0.19,
+    ('sae-25-90', 25, 'crest_radius_mm'): 0.16,
+    ('sae-25-90', 25, 'dent_um'): 0.08,
+    ('sae-25-90', 25, 'hg_over_int'): 0.08,
+    ('sae-25-90', 25, 'restitution'): 0.03,
+    ('sae-25-90', 25, 'zero_depth_mm'): 0.04,
+}
+
+
+def _check(case, h_um, goal, offset=0.0):
     ref, _ = bh.reference(DATA, case)
     assert ref, f"no reference for {case} in {bh.STORE}"
-    got = bh.run(case, "physical", h_um)
+    got = bh.run(case, "physical", h_um, offset)
+    missed = MISSED_BETWEEN_NODES if offset else MISSED
     errors = {}
     for key, tol in goal.items():
-        tol = MISSED.get((case, h_um, key), tol)
+        tol = missed.get((case, h_um, key), tol)
         if key == "profile_rms":
             err = bh.profile_rms(got, ref)
         else:
@@ -96,6 +109,15 @@ def test_normal_impacts_at_25um(case):
     got, _ = _check(case, 25, GOAL_25)
     assert got["energy_error"] < 0.005
     assert got["hg_over_int"] <= MISSED.get((case, 25, "hg_over_int"), 0.05)
+
+
+def test_normal_impact_between_nodes_at_25um():
+    """In a REV shots land anywhere on the element grid: aimed half an element off a node (on the
+    half model), the 25 m/s dent reads 2.6 % shallower than aimed at a node (its deepest point falls
+    between nodes), its crest and rebound move too; the sigma_xx profile stays within the goal."""
+    got, _ = _check("sae-25-90", 25, GOAL_25, offset=0.5)
+    assert got["energy_error"] < 0.005
+    assert got["hg_over_int"] <= MISSED_BETWEEN_NODES[("sae-25-90", 25, "hg_over_int")]
 
 
 @pytest.mark.slow
