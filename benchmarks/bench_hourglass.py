@@ -18,7 +18,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_hourglass.py remetric                # surface figures again from the stored lines
     PYTHONPATH=. python benchmarks/bench_hourglass.py bias                    # the surface metric on coarser samplings
     PYTHONPATH=. python benchmarks/bench_hourglass.py profile-bias            # the sigma_xx(z) reading on coarser layers
-    PYTHONPATH=. python benchmarks/bench_hourglass.py offsets                 # the shot aimed between nodes (25, 50 um)
+    PYTHONPATH=. python benchmarks/bench_hourglass.py offsets [H_UM ...]      # the shot aimed between nodes (default 60-12.5 um)
 
 Every run is stored (metrics, CPU s, the command) in
 ``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
@@ -375,7 +375,7 @@ def offset_table(sizes=OFFSET_SIZES) -> None:
                 if kind == "rms":
                     e = np.array([profile_rms(v, ref) for v in runs])
                 else:
-                    e = np.array([v[k] - ref[k] if kind == "abs" else v[k] / ref[k] - 1 for v in runs])
+                    e = np.array([_error(v, ref, k, kind) for v in runs])
                 worst.setdefault((h, k), []).extend(np.abs(e).tolist())
                 if kind == "abs":
                     cells.append(f"{e.mean():+.3f} ({e.min():+.3f} … {e.max():+.3f})")
@@ -416,6 +416,11 @@ QUANTITIES = (  # key, label, kind: "rel" % error or "abs" difference
     ("crest_radius_mm", "crest radius", "rel"), ("crest_height_um", "crest height", "rel"),
     ("restitution", "restitution", "abs"),
 )
+
+
+def _error(v: dict, ref: dict, key: str, kind: str) -> float:
+    """Error of run ``v`` against ``ref`` in ``key``: relative ("rel") or a difference ("abs")."""
+    return v[key] - ref[key] if kind == "abs" else v[key] / ref[key] - 1.0
 
 
 def reference(data: dict, case: str) -> tuple[dict, str]:
@@ -460,7 +465,8 @@ def table() -> None:
                     continue
                 cells = []
                 for k, _, kind in QUANTITIES:
-                    cells.append(f"{v[k] - ref[k]:+.3f}" if kind == "abs" else f"{100 * (v[k] / ref[k] - 1):+.1f} %")
+                    e = _error(v, ref, k, kind)
+                    cells.append(f"{e:+.3f}" if kind == "abs" else f"{100 * e:+.1f} %")
                 print(f"| {element} | {h:g} | " + " | ".join(cells) + f" | {100 * profile_rms(v, ref):.1f} % | "
                       f"{100 * profile_rms(v, ref, 'lines'):.1f} % | {v['hg_over_int']:.3f} | {v['cpu_s']:.0f} |")
 
@@ -550,8 +556,7 @@ def summary() -> None:
                     continue
                 n += 1
                 for k, _, kind in QUANTITIES:
-                    e = v[k] - ref[k] if kind == "abs" else v[k] / ref[k] - 1
-                    worst[k] = max(worst[k], abs(e))
+                    worst[k] = max(worst[k], abs(_error(v, ref, k, kind)))
                 rms_w = max(rms_w, profile_rms(v, ref))
                 hg_w = max(hg_w, v["hg_over_int"])
             if n:
