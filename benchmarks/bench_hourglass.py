@@ -19,6 +19,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_hourglass.py bias                    # the surface metric on coarser samplings
     PYTHONPATH=. python benchmarks/bench_hourglass.py profile-bias            # the sigma_xx(z) reading on coarser layers
     PYTHONPATH=. python benchmarks/bench_hourglass.py offsets [H_UM ...]      # the shot aimed between nodes (default 60-12.5 um)
+    PYTHONPATH=. python benchmarks/bench_hourglass.py friction                # the 45 deg hump with and without friction
 
 Every run is stored (metrics, CPU s, the command) in
 ``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
@@ -316,23 +317,25 @@ def metrics(res, mesh: BoxMesh) -> dict:
     out.update(profile_metrics(zs, prof))
     hist = res.histories[0]
     s = res.shots
-    out.update(restitution=float(s["restitution"][0]),
+    out.update(restitution=float(s["restitution"][0]), vout_x=float(s["vout_x"][0]),
                hg_over_int=float(np.max(hist["w_hourglass"]) / np.max(hist["w_int"])),
                energy_error=float(s["energy_error"][0]), surface_x_mm=(xs * 1e3).tolist(),
                surface_uz_um=(us * 1e6).tolist())
     return out
 
 
-def run(case: str, element: str, h_um: float, offset: float = 0.0) -> dict:
+def run(case: str, element: str, h_um: float, offset: float = 0.0, friction: float | None = None) -> dict:
     """One run of ``case``; ``offset``: the shot's aim along the plane of incidence in elements from a
-    node (0: on a node, the tables' runs; else on the half model, normal impacts too)."""
+    node (0: on a node, the tables' runs; else on the half model, normal impacts too); ``friction``:
+    the Coulomb coefficient if not the kernel's default 0.2 (:func:`friction_hump`)."""
     mat, speed, angle = CASES[case]
     oblique = angle != 90.0 or offset != 0.0
     mesh = block(h_um * 1e-6, oblique)
     th = np.radians(angle)
     shots = Shots(centres=[[offset * h_um * 1e-6, 0.0, -R - 1e-6]],
                   velocities=[speed * np.array([np.cos(th), 0.0, np.sin(th)])], radius=R, density=7800.0)
-    opt = Options(window=False, record=True, record_every=20, **ELEMENTS[element])
+    extra = {} if friction is None else {"friction": friction}
+    opt = Options(window=False, record=True, record_every=20, **ELEMENTS[element], **extra)
     # compile (or load) the kernels outside the timing: a tiny impact on a 100 um mesh
     tiny = BoxMesh(*(np.arange(5) * 1e-4,) * 2, np.arange(4) * 1e-4)
     run_impacts(Target(tiny), Material(**mat), Shots(centres=[[0, 0, -R - 1e-6]], velocities=[[0, 0, 5.0]],
@@ -395,6 +398,38 @@ def offset_table(sizes=OFFSET_SIZES) -> None:
             w = max(worst[(h, k)])
             cells.append(f"{w:.3f}" if kind == "abs" else f"{100 * w:.1f} %")
         print(f"| {h:g} | {len(worst[(h, 'dent_um')])} | " + " | ".join(cells) + " |")
+
+
+HUMP_X_MM = np.arange(-0.100, 0.1501, 0.025)  # column centres along the stream for :func:`hump`
+
+
+def hump(v: dict) -> tuple[float, float]:
+    """Where along the stream (x mm) the most compressive sigma_xx column of a run's map is, and its
+    peak (MPa): the column mean of :func:`column_profile` centred every 25 um."""
+    peaks = [column_profile(v, x)[1].min() for x in HUMP_X_MM]
+    i = int(np.argmin(peaks))
+    return float(HUMP_X_MM[i]), float(peaks[i])
+
+
+def friction_hump() -> None:
+    """The 45 deg case with and without friction at 25 and 12.5 um (runs not stored), and the hump of
+    every stored 45 deg run: where friction puts the compressive zone, against the element size
+    (BENCHMARKS.md 4c, "Why the 45 deg profile misses")."""
+    data = _load()
+    ref, _ = reference(data, "sae-55-45")
+    print("| friction | h um | hump x mm (MPa) | dent centre um | dent | σxx peak | profile RMS against the "
+          "reference (friction 0.2) | vout_x m/s |")
+    print("|---|---|---|---|---|---|---|---|")
+    for mu in (0.0, 0.2):
+        for h in (25.0, 12.5):
+            v = run("sae-55-45", "physical", h, friction=mu)
+            x, p = hump(v)
+            print(f"| {mu:g} | {h:g} | {x:.3f} ({p:.0f}) | {v['dent_centre_mm'] * 1e3:.1f} | {v['dent_um']:.2f} um | "
+                  f"{v['sxx_peak_mpa']:.0f} MPa | {100 * profile_rms(v, ref):.1f} % | {v['vout_x']:.2f} |", flush=True)
+    print("\n| stored run | hump x mm (MPa) |\n|---|---|")
+    for key in sorted(k for k in data if k.startswith("sae-55-45/") and "offset" not in k):
+        x, p = hump(data[key])
+        print(f"| {key} | {x:.3f} ({p:.0f}) |")
 
 
 def _load() -> dict:
@@ -603,6 +638,8 @@ if __name__ == "__main__":
         print("|---|---|---|")
         for r in profile_sampling_bias(_load()):
             print(f"| {r['run']} | {100 * r['recovered']:.1f} % | {100 * r['lines']:.1f} % |")
+    elif sys.argv[1] == "friction":
+        friction_hump()
     elif sys.argv[1] == "legacy":
         legacy()
     elif sys.argv[1] == "cost":
