@@ -20,6 +20,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_hourglass.py profile-bias            # the sigma_xx(z) reading on coarser layers
     PYTHONPATH=. python benchmarks/bench_hourglass.py offsets [H_UM ...]      # the shot aimed between nodes (default 60-12.5 um)
     PYTHONPATH=. python benchmarks/bench_hourglass.py friction                # the 45 deg hump with and without friction
+    PYTHONPATH=. python benchmarks/bench_hourglass.py variants                # thinner top layers, 20 um (not stored)
 
 Every run is stored (metrics, CPU s, the command) in
 ``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
@@ -94,11 +95,17 @@ AXIS_ZONE = 50e-6  # half width of the column averaged for sigma_xx(z), m
 PROFILE_DEPTH = 0.3e-3
 
 
-def block(h: float, oblique: bool) -> BoxMesh:
-    """Quarter (normal) or half (oblique; y >= 0) model of the 6D x 6D x 1.29 mm block."""
+def block(h: float, oblique: bool, surface_layers: tuple[float, float] | None = None) -> BoxMesh:
+    """Quarter (normal) or half (oblique; y >= 0) model of the 6D x 6D x 1.29 mm block.
+
+    ``surface_layers``: (depth, layer thickness) m of thinner top layers (:func:`variants`)."""
     half, depth, fine_depth = 3 * D, 1.29e-3, PROFILE_DEPTH
     lat = graded_axis(0.3e-3, h, half, 1.2)
     z = graded_axis(fine_depth, h, depth, 1.2)
+    if surface_layers is not None:
+        top, hz = surface_layers
+        rest = graded_axis(fine_depth - top, h, depth - top, 1.2, start=top)
+        z = np.concatenate([np.arange(0.0, top + 1e-12, hz), rest[1:]])
     if not oblique:
         return BoxMesh(lat, lat.copy(), z)
     along = graded_axis(0.45e-3, h, half, 1.2)
@@ -317,20 +324,22 @@ def metrics(res, mesh: BoxMesh) -> dict:
     out.update(profile_metrics(zs, prof))
     hist = res.histories[0]
     s = res.shots
-    out.update(restitution=float(s["restitution"][0]), vout_x=float(s["vout_x"][0]),
+    out.update(restitution=float(s["restitution"][0]), vout_x=float(s["vout_x"][0]), steps=int(s["steps"][0]),
                hg_over_int=float(np.max(hist["w_hourglass"]) / np.max(hist["w_int"])),
                energy_error=float(s["energy_error"][0]), surface_x_mm=(xs * 1e3).tolist(),
                surface_uz_um=(us * 1e6).tolist())
     return out
 
 
-def run(case: str, element: str, h_um: float, offset: float = 0.0, friction: float | None = None) -> dict:
+def run(case: str, element: str, h_um: float, offset: float = 0.0, friction: float | None = None,
+        surface_layers: tuple[float, float] | None = None) -> dict:
     """One run of ``case``; ``offset``: the shot's aim along the plane of incidence in elements from a
     node (0: on a node, the tables' runs; else on the half model, normal impacts too); ``friction``:
-    the Coulomb coefficient if not the kernel's default 0.2 (:func:`friction_hump`)."""
+    the Coulomb coefficient if not the kernel's default 0.2 (:func:`friction_hump`);
+    ``surface_layers``: thinner top layers (:func:`block`; on the half model)."""
     mat, speed, angle = CASES[case]
-    oblique = angle != 90.0 or offset != 0.0
-    mesh = block(h_um * 1e-6, oblique)
+    oblique = angle != 90.0 or offset != 0.0 or surface_layers is not None
+    mesh = block(h_um * 1e-6, oblique, surface_layers)
     th = np.radians(angle)
     shots = Shots(centres=[[offset * h_um * 1e-6, 0.0, -R - 1e-6]],
                   velocities=[speed * np.array([np.cos(th), 0.0, np.sin(th)])], radius=R, density=7800.0)
@@ -430,6 +439,32 @@ def friction_hump() -> None:
     for key in sorted(k for k in data if k.startswith("sae-55-45/") and "offset" not in k):
         x, p = hump(data[key])
         print(f"| {key} | {x:.3f} ({p:.0f}) |")
+
+
+def variants() -> None:
+    """Mesh variants at about the 25 um cost, not stored: the 25 um block with thinner top layers
+    (depth / thickness um) and a uniform 20 um mesh, all on the half model, node-aimed, against the references
+    (BENCHMARKS.md 4c, "Thinner surface layers")."""
+    data = _load()
+    rows = [("sae-55-45", None), ("sae-55-45", (25, 12.5)), ("sae-55-45", (50, 12.5)), ("sae-55-45", (100, 12.5)),
+            ("sae-55-45", (150, 12.5)), ("sae-55-45", (50, 6.25))]
+    rows += [(c, layers) for c in ("sae-25-90", "sae-55-90", "al-47-65") for layers in (None, (50, 12.5))]
+    print("| case | mesh | steps | CPU s | dent | σxx peak | zero crossing | profile RMS | crest radius | restitution |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+
+    def line(case, label, v):
+        ref, _ = reference(data, case)
+        e = {k: _error(v, ref, k, kind) for k, _, kind in QUANTITIES}
+        print(f"| {case} | {label} | {v['steps']} | {v['cpu_s']:.1f} | {100 * e['dent_um']:+.1f} % | "
+              f"{100 * e['sxx_peak_mpa']:+.1f} % | {100 * e['zero_depth_mm']:+.1f} % | {100 * profile_rms(v, ref):.1f} % | "
+              f"{100 * e['crest_radius_mm']:+.1f} % | {e['restitution']:+.3f} |", flush=True)
+
+    for case, layers in rows:  # all on the half model, so that steps and CPU compare
+        sl = (0.0, 25e-6) if layers is None else (layers[0] * 1e-6, layers[1] * 1e-6)
+        v = run(case, "physical", 25.0, surface_layers=sl)
+        line(case, "25 um" if layers is None else f"25 um, top {layers[0]:g} um in {layers[1]:g} um layers", v)
+    for case in CASES:
+        line(case, "20 um", run(case, "physical", 20.0, surface_layers=(0.0, 20e-6)))
 
 
 def _load() -> dict:
@@ -640,6 +675,8 @@ if __name__ == "__main__":
             print(f"| {r['run']} | {100 * r['recovered']:.1f} % | {100 * r['lines']:.1f} % |")
     elif sys.argv[1] == "friction":
         friction_hump()
+    elif sys.argv[1] == "variants":
+        variants()
     elif sys.argv[1] == "legacy":
         legacy()
     elif sys.argv[1] == "cost":
