@@ -683,10 +683,11 @@ if __name__ == "__main__":
         cost()
     elif sys.argv[1] == "offsets":  # every case at each aim of OFFSETS (sizes um: arguments), stored; the table
         sizes = tuple(float(a) for a in sys.argv[2:]) or OFFSET_SIZES
+        stored = set(_load())  # read once; _store re-reads under its lock before each write
         for case in CASES:
             for h in sizes:
                 for o in OFFSETS:
-                    if offset_key(case, h, o) not in _load():
+                    if offset_key(case, h, o) not in stored:
                         _store(offset_key(case, h, o), run(case, "physical", h, o))
         offset_table()
     elif sys.argv[1] == "run":
