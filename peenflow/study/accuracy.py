@@ -41,11 +41,11 @@ __all__ = ["SINGLE_IMPACT", "SINGLE_IMPACT_SOURCE", "STUDY_LEVEL", "STUDY_LEVEL_
 #: element size um -> worst error over the four cases and four aims: (dent %, sigma_xx peak %,
 #: zero crossing %, restitution, profile RMS %), BENCHMARKS.md section 4c
 SINGLE_IMPACT: dict[float, tuple[float, float, float, float, float]] = {
-    60.0: (26.5, 35.8, 10.4, 0.083, 19.3),
-    50.0: (23.1, 32.0, 14.2, 0.076, 17.3),
-    40.0: (13.5, 30.4, 9.5, 0.044, 15.0),
-    25.0: (7.1, 17.1, 4.8, 0.021, 7.7),
-    12.5: (2.0, 5.4, 0.6, 0.006, 2.8),
+    60.0: (16.6, 35.8, 10.4, 0.083, 19.3),
+    50.0: (12.8, 32.0, 14.2, 0.076, 17.3),
+    40.0: (9.4, 30.4, 9.5, 0.044, 15.0),
+    25.0: (4.7, 17.1, 4.8, 0.021, 7.7),
+    12.5: (1.3, 5.4, 0.6, 0.006, 2.8),
 }
 SINGLE_IMPACT_SOURCE = "BENCHMARKS.md section 4c"
 #: element size um -> (smallest, largest) intensity error in % over the four strip points, and the

@@ -46,6 +46,10 @@ GOAL_50 = dict(dent_um=0.08, dent_radius_mm=0.08, sxx_peak_mpa=0.08, zero_depth_
 # 0.9 % on the zero crossing (straight lines: 1.1 / 0.9 %), so the new entries below are the
 # element's: the 25 m/s zero crossing -4.8 % (-2.6 % read by straight lines) and peak +3.4 %
 # (+2.4 %), the 45 deg peak +14.4 % (+13.0 %); at 50 um the entries moved both ways.
+# Since 2026-12-02 (later) the dent depth is read between nodes on the surface spline
+# (bench_hourglass.dent_bottom; within 0.9 % on a 25 um sampling of the converged lines): the 45 deg
+# dent's -3.5 % became -1.7 % (goal met, entry removed), the 25 m/s dent (deepest point on a node)
+# stays -4.5 %.
 MISSED = {
     ('al-47-65', 25, 'crest_radius_mm'): 0.11,
     ('sae-25-90', 25, 'dent_radius_mm'): 0.07,
@@ -61,7 +65,6 @@ MISSED = {
     ('sae-55-45', 25, 'crest_height_um'): 0.26,
     ('sae-55-45', 25, 'crest_radius_mm'): 0.15,
     ('sae-55-45', 25, 'dent_radius_mm'): 0.06,
-    ('sae-55-45', 25, 'dent_um'): 0.05,
     ('sae-55-45', 25, 'hg_over_int'): 0.07,
     ('sae-55-45', 25, 'profile_rms'): 0.08,
     ('sae-55-45', 25, 'sxx_peak_mpa'): 0.15,
@@ -77,11 +80,12 @@ MISSED = {
 
 
 # the shot aimed half an element off a node (bench_hourglass.py offsets; BENCHMARKS.md 4c, "Shots
-# between nodes"): the worst aim of the 25 m/s dent, whose deepest point then falls between nodes
+# between nodes"): the worst aim of the 25 m/s dent for its crest and rebound; its dent, read between
+# nodes, is as far off as aimed at a node (-4.3 %; the deepest node alone read -7.1 %)
 MISSED_BETWEEN_NODES = {
     ('sae-25-90', 25, 'crest_height_um'): 0.19,
     ('sae-25-90', 25, 'crest_radius_mm'): 0.16,
-    ('sae-25-90', 25, 'dent_um'): 0.08,
+    ('sae-25-90', 25, 'dent_um'): 0.05,
     ('sae-25-90', 25, 'hg_over_int'): 0.08,
     ('sae-25-90', 25, 'restitution'): 0.03,
     ('sae-25-90', 25, 'zero_depth_mm'): 0.04,
@@ -111,8 +115,9 @@ def test_normal_impacts_at_25um(case):
 
 def test_normal_impact_between_nodes_at_25um():
     """In a REV shots land anywhere on the element grid: aimed half an element off a node (on the
-    half model), the 25 m/s dent reads 2.6 % shallower than aimed at a node (its deepest point falls
-    between nodes), its crest and rebound move too; the sigma_xx profile stays within the goal."""
+    half model), the 25 m/s dent's deepest point falls between nodes; read on the surface spline there
+    its depth is as far off as aimed at a node (-4.3 against -4.5 %), its crest and rebound move; the
+    sigma_xx profile stays within the goal."""
     got, _ = _check("sae-25-90", 25, GOAL_25, offset=0.5)
     assert got["energy_error"] < 0.005
     assert got["hg_over_int"] <= MISSED_BETWEEN_NODES[("sae-25-90", 25, "hg_over_int")]
@@ -146,6 +151,27 @@ def test_surface_metric_on_a_coarser_sampling_of_the_same_line():
         assert r["dent_radius_worst_um"] <= 7.5, r
         assert abs(r["crest_radius_bias_um"]) <= 9.0, r
         assert r["crest_radius_worst_um"] <= 15.0, r
+
+
+def test_dent_depth_read_between_nodes_on_a_coarser_sampling_of_the_same_line():
+    """The dent depth reading (bench_hourglass.dent_bottom), not the element: each stored 6.25 um
+    line, whole (a quarter model's mirrored about its axis), taken at every 4th node from each of the
+    4 offsets -- a 25 um grid with the dent bottom on a node, or 1/4, 1/2, 3/4 of an element off.
+    Read on the surface spline between nodes the depth is within 1 % of the full line's at every
+    offset (measured -0.26 ... -0.87 % at worst), the 3 % goal is the element's to meet; the deepest
+    node alone misses by up to 4 % on the normal dents (a parabolic bottom read h / 2 off its vertex),
+    which the old reading charged the element with."""
+    import numpy as np
+
+    rows = bh.sampling_bias(DATA, step=4)
+    assert {r["run"].split("/")[0] for r in rows} == set(bh.CASES)
+    for r in rows:
+        assert -0.01 <= r["dent_worst"] <= r["dent_bias"] <= 0.0, r
+    v = DATA["sae-25-90/physical/6.25"]
+    x, u = bh._whole_line(np.array(v["surface_x_mm"]) * 1e-3, np.array(v["surface_uz_um"]) * 1e-6)
+    node_only = min(u[o::4].max() / u.max() - 1.0 for o in range(4))
+    assert node_only < -0.03
+    assert bh.dent_bottom(x, u) == pytest.approx(u.max(), rel=1e-3)  # on the full line: its deepest node
 
 
 def test_profile_reading_on_coarser_layers_of_the_same_profile():
