@@ -21,6 +21,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_hourglass.py offsets [H_UM ...]      # the shot aimed between nodes (default 60-12.5 um)
     PYTHONPATH=. python benchmarks/bench_hourglass.py friction                # the 45 deg hump with and without friction
     PYTHONPATH=. python benchmarks/bench_hourglass.py variants                # thinner top layers, 20 um (not stored)
+    PYTHONPATH=. python benchmarks/bench_hourglass.py recovery                # normal dents: approach vs recovery (not stored)
 
 Every run is stored (metrics, CPU s, the command) in
 ``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
@@ -360,6 +361,9 @@ def metrics(res, mesh: BoxMesh) -> dict:
     out.update(profile_metrics(zs, prof))
     hist = res.histories[0]
     s = res.shots
+    out.update(max_approach_um=float(s["max_approach"][0]) * 1e6, peak_force_n=float(s["peak_force"][0]),
+               contact_radius_um=float(s["contact_radius"][0]) * 1e6,
+               max_contact_radius_um=float(s["max_contact_radius"][0]) * 1e6)
     out.update(restitution=float(s["restitution"][0]), vout_x=float(s["vout_x"][0]), steps=int(s["steps"][0]),
                hg_over_int=float(np.max(hist["w_hourglass"]) / np.max(hist["w_int"])),
                energy_error=float(s["energy_error"][0]), surface_x_mm=(xs * 1e3).tolist(),
@@ -475,6 +479,23 @@ def friction_hump() -> None:
     for key in sorted(k for k in data if k.startswith("sae-55-45/") and "offset" not in k):
         x, p = hump(data[key])
         print(f"| {key} | {x:.3f} ({p:.0f}) |")
+
+
+def recovery(cases=("sae-25-90", "sae-55-90"), sizes=(50.0, 25.0, 12.5, 6.25)) -> None:
+    """Where a normal dent's error comes from (runs not stored; quarter model, node-aimed): the shot's
+    largest approach (its lowest point's travel into the target, m), the residual dent read between
+    nodes, the elastic recovery between them, the peak force and the contact radius (Hertz-equivalent
+    sqrt(5/2 <r^2>) of the nodal normal impulses at peak force; and the outermost contact node's radius)
+    (BENCHMARKS.md 4c, "What the normal dents miss")."""
+    print("| case | h um | max approach um | residual dent um | recovery um | peak force N | "
+          "contact radius um (Hertz-equivalent / outermost node) | CPU s |")
+    print("|---|---|---|---|---|---|---|---|")
+    for case in cases:
+        for h in sizes:
+            v = run(case, "physical", h)
+            print(f"| {case} | {h:g} | {v['max_approach_um']:.3f} | {v['dent_um']:.3f} | "
+                  f"{v['max_approach_um'] - v['dent_um']:.3f} | {v['peak_force_n']:.1f} | "
+                  f"{v['contact_radius_um']:.1f} / {v['max_contact_radius_um']:.1f} | {v['cpu_s']:.1f} |", flush=True)
 
 
 def variants() -> None:
@@ -715,6 +736,8 @@ if __name__ == "__main__":
         friction_hump()
     elif sys.argv[1] == "variants":
         variants()
+    elif sys.argv[1] == "recovery":
+        recovery()
     elif sys.argv[1] == "legacy":
         legacy()
     elif sys.argv[1] == "cost":
