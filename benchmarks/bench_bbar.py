@@ -79,6 +79,44 @@ def table() -> None:
             steps = f"{v['impact_steps']} + {v['relax_steps']}" if "impact_steps" in v else ""
             print(f"| {label} | {h:g} | " + " | ".join(cells) + f" | {100 * bh.profile_rms(v, ref):.1f} % | "
                   f"{v['cpu_s']:.1f} | {steps} |")
+    print("\n#### Largest |error| over the four cases (driver runs)\n")
+    print("| element | h um | " + " | ".join(q[1] for q in bh.QUANTITIES) + " | profile RMS | CPU s (sum of 4) |")
+    print("|---|---|" + "---|" * (len(bh.QUANTITIES) + 2))
+    refs = {case: bh.reference(kernel, case)[0] for case in bh.CASES}
+    for el in ELEMENTS:
+        for h in SIZES:
+            runs = [(data.get(_key(c, el, h)), refs[c]) for c in bh.CASES]
+            if any(v is None for v, _ in runs):
+                continue
+            cells = []
+            for k, _, kind in bh.QUANTITIES:
+                w = max(abs(bh._error(v, r, k, kind)) for v, r in runs)
+                cells.append(f"{w:.3f}" if kind == "abs" else f"{100 * w:.1f} %")
+            rms = max(bh.profile_rms(v, r) for v, r in runs)
+            print(f"| {el} | {h:g} | " + " | ".join(cells) + f" | {100 * rms:.1f} % | "
+                  f"{sum(v['cpu_s'] for v, _ in runs):.0f} |")
+    print("\n#### Equal cost: B-bar at h against physical at h / 2 (driver runs; |error|, the closer one in bold)\n")
+    print("| case | pair | CPU s | " + " | ".join(q[1] for q in bh.QUANTITIES) + " | profile RMS | B-bar closer on |")
+    print("|---|---|---|" + "---|" * (len(bh.QUANTITIES) + 2))
+    for case in bh.CASES:
+        ref = refs[case]
+        for hb, hp in ((50.0, 25.0), (25.0, 12.5)):
+            b, p = data.get(_key(case, "bbar", hb)), data.get(_key(case, "physical", hp))
+            if b is None or p is None:
+                continue
+            cells, wins = [], 0
+            for k, _, kind in bh.QUANTITIES + (("rms", "", "rms"),):
+                if kind == "rms":
+                    eb, ep = bh.profile_rms(b, ref), bh.profile_rms(p, ref)
+                else:
+                    eb, ep = abs(bh._error(b, ref, k, kind)), abs(bh._error(p, ref, k, kind))
+                fmt = (lambda e: f"{e:.3f}") if kind == "abs" else (lambda e: f"{100 * e:.1f} %")
+                sb, sp = fmt(eb), fmt(ep)
+                sb, sp = (f"**{sb}**", sp) if eb < ep else (sb, f"**{sp}**")
+                wins += eb < ep
+                cells.append(f"{sb} / {sp}")
+            print(f"| {case} | B-bar {hb:g} / physical {hp:g} | {b['cpu_s']:.1f} / {p['cpu_s']:.1f} | "
+                  + " | ".join(cells) + f" | {wins} of {len(bh.QUANTITIES) + 1} |")
     print("\n#### The driver's physical runs (dynamic relaxation) against the kernel's stored ones (static)\n")
     print("| case | h um | " + " | ".join(q[1] for q in bh.QUANTITIES) + " | profile RMS |")
     print("|---|---|" + "---|" * (len(bh.QUANTITIES) + 1))
