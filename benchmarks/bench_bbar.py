@@ -33,7 +33,7 @@ import bench_hourglass as bh  # noqa: E402
 
 STORE = HERE / "bbar" / "results.json"
 ELEMENTS = ("physical", "bbar")
-SIZES = (50.0, 25.0, 12.5)
+SIZES = (50.0, 25.0, 12.5, 6.25)
 
 
 def _load() -> dict:
