@@ -356,3 +356,32 @@ def test_driver_copy_is_the_kernel_loop():
     bb = d.simulate(Target(mesh), mat, shots, opt, "bbar")
     assert bb.shots["energy_error"][0] < 0.02
     assert bb.displacement[:, 2].max() > 0.0
+
+
+def test_lane_version_equals_scalar_version():
+    """``bbar_pass_v`` (the Gauss points as SIMD lanes; the driver's) is ``bbar_pass`` to round-off on a
+    distorted mesh, elastic and through the Johnson-Cook return, B-bar and plain full integration."""
+    from benchmarks.bbar.element_bbar import bbar_pass_v
+
+    mesh, X = _distorted(n=3, seed=5)
+    nnx, nny, _ = mesh.shape_nodes
+    nx, ny, nz = mesh.shape_elements
+    mat = _mat(PLASTIC, bulk=(0.06, 1.5))
+    v = X @ (G * 2e5).T + np.random.default_rng(1).normal(0, 0.5, X.shape)
+    for bbar in (True, False):
+        out = []
+        for fn in (bbar_pass, bbar_pass_v):
+            st = _gp_arrays(mesh.n_elements, PLASTIC.A)
+            f = np.zeros_like(X)
+            res = []
+            for _ in range(30):  # into plastic flow
+                f[:] = 0.0
+                res.append(fn(X, v, f, *st, mesh.element_volumes(), mat, 2e-9, nnx, nny, nx, ny, 0, nx, 0, ny,
+                              0, nz, bbar))
+            out.append((f.copy(), st, np.array(res)))
+        (f1, s1, r1), (f2, s2, r2) = out
+        assert r1[-1, 3] > 0.0  # plastic work in the last pass
+        assert np.abs(f1 - f2).max() <= 1e-12 * np.abs(f1).max()
+        for a, b in zip(s1, s2):
+            assert np.abs(a - b).max() <= 1e-12 * max(np.abs(a).max(), 1e-30)
+        assert np.allclose(r1, r2, rtol=1e-12, atol=0.0)
