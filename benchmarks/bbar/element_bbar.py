@@ -42,7 +42,7 @@ Per element and step (central difference, forces at ``t_{n+1}``), at the mid-ste
 
 :func:`bbar_pass` runs all elements of an index box one at a time (serial, element order; the
 scatter needs no colouring); :func:`bbar_pass_v` is the same with each element's 8 Gauss points as SIMD
-lanes (1.2-1.4x faster, equal to round-off), the one the driver uses. :func:`run_phase_bbar` is a copy of
+lanes (1.2x faster in bench_bbar.py cost, equal to round-off), the one the driver uses. :func:`run_phase_bbar` is a copy of
 :func:`peenflow.fe.solver.run_phase` with the element pass chosen by ``kind`` (0: the kernel's
 one-point element :func:`peenflow.fe.element.element_rows`, 1: B-bar, 2: plain full
 integration) and the window's viscous-spring faces and periodic tying removed (the single-impact
