@@ -2,7 +2,7 @@
 impacts of ``bench_hourglass.py`` (issue 13 §1: "if another element measures better for the same cost, use it
 and show the comparison"). The element: :mod:`benchmarks.bbar.element_bbar`; the driver (same mesh, shot,
 contact, boundary conditions and settle as ``bench_hourglass.run``, dynamic final relaxation for both
-elements): :mod:`benchmarks.bbar.driver`. Results and conclusion: ``benchmarks/bbar/RESULTS.md``.
+elements): :mod:`benchmarks.bbar.driver`. Results and conclusion: BENCHMARKS.md section 4d.
 
 Usage (from the repository root, one thread)::
 
@@ -10,6 +10,7 @@ Usage (from the repository root, one thread)::
     PYTHONPATH=. python benchmarks/bench_bbar.py all H_UM [H_UM ...]    # every case and element not stored yet
     PYTHONPATH=. python benchmarks/bench_bbar.py table                   # the tables, from the store only
     PYTHONPATH=. python benchmarks/bench_bbar.py cost                    # CPU s per 10^6 element updates
+    PYTHONPATH=. python benchmarks/bench_bbar.py remetric                # surface figures again from the stored lines
 
 Runs are stored in ``benchmarks/bbar/results.json`` (metrics as ``bench_hourglass.metrics``, CPU s of this
 process, steps). The errors are against ``bench_hourglass.reference`` (the 6.25 um physical runs of
@@ -48,6 +49,15 @@ def _store(key: str, value: dict) -> None:
 
 def _key(case, element, h):
     return f"{case}/{element}/{h:g}"
+
+
+def remetric() -> None:
+    """The surface figures of every stored run again from its stored surface line, by the present
+    ``bench_hourglass.surface_metrics`` (after a change of that reading; the runs are not repeated)."""
+    data = _load()
+    for v in data.values():
+        v.update(bh.surface_metrics(np.array(v["surface_x_mm"]) * 1e-3, np.array(v["surface_uz_um"]) * 1e-6))
+    STORE.write_text(json.dumps(data, indent=1, sort_keys=True))
 
 
 def run_one(case: str, element: str, h: float) -> dict:
@@ -204,5 +214,7 @@ if __name__ == "__main__":
                         print(f"{case} {el} {h:g}: dent {o['dent_um']:.3f} um, CPU {o['cpu_s']:.1f} s", flush=True)
     elif cmd == "cost":
         cost()
+    elif cmd == "remetric":
+        remetric()
     else:
         table()

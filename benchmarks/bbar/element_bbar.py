@@ -38,7 +38,7 @@ Per element and step (central difference, forces at ``t_{n+1}``), at the mid-ste
 7. Stable step: the one-point element's dilatational bound without its hourglass term,
    ``dt_e = 2 / omega``, ``omega = 2 (Q + sqrt(Q^2 + c^2)) / l``. Measured, not assumed: the
    highest frequency of assembled meshes of this element against this bound is in
-   tests/bbar (test_stable_step_bounds_assembled_mesh) and benchmarks/bbar/RESULTS.md.
+   tests/fe/test_bbar_element.py (test_stable_step_bounds_assembled_mesh) and BENCHMARKS.md section 4d.
 
 :func:`bbar_pass` runs all elements of an index box one at a time (serial, element order; the
 scatter needs no colouring); :func:`bbar_pass_v` is the same with each element's 8 Gauss points as SIMD
