@@ -158,7 +158,11 @@ def simulate(target: Target, material: Material, shots: Shots, options: Options,
     hist = {"w_int": r[:, 12], "w_hourglass": r[:, 14], "time": r[:, 0], "velocity": r[:, 7:10]}
     shot_rec = {"restitution": np.array([-info[S.I_VZ] / vel[2]]), "vout_x": np.array([info[S.I_VX]]),
                 "steps": np.array([int(info[S.I_STEPS])]), "energy_error": np.array([info[S.I_E_ERR] / e_imp]),
-                "hit": np.array([info[S.I_T_CONTACT] >= 0])}
+                "hit": np.array([info[S.I_T_CONTACT] >= 0]),
+                # as fe/impact.py's shot record (bench_hourglass.metrics reads them)
+                "max_approach": np.array([info[S.I_MAX_APPROACH]]), "peak_force": np.array([info[S.I_PEAK_FORCE]]),
+                "max_contact_radius": np.array([info[S.I_MAX_RADIUS]]),
+                "contact_radius": np.array([np.sqrt(2.5 * info[S.I_R2_AT_PEAK])])}
     impact_steps = int(info[S.I_STEPS])
     # final relaxation: dynamic (kernel's relax_dynamic), on the state itself (the copy is not needed here)
     e_ref, v_ref = reference_scales(shots)

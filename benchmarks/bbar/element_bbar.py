@@ -93,6 +93,28 @@ DN = _dn_table()
 _jit = dict(cache=True, nogil=True)
 
 
+@njit(**_jit, inline="always")
+def _viscosity_and_step(c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, detc, vol, vol0_e, mat, lam, mu, ebar, dt):
+    """Bulk viscosity on the mean dilatation rate ``ebar`` (1/s) and the element's stable step, as the
+    one-point element (element.py docstring 3 and 6, without its hourglass term); ``c*`` the centre face
+    vectors, ``detc`` their determinant. Returns (q Pa, its work J over ``dt``, dt_e s)."""
+    amax = max(c1x * c1x + c1y * c1y + c1z * c1z, c2x * c2x + c2y * c2y + c2z * c2z)
+    amax = max(amax, c3x * c3x + c3y * c3y + c3z * c3z)
+    lch = 2.0 * detc / math.sqrt(amax)
+    rho = mat[M_RHO] * vol0_e / vol
+    c2 = (lam + 2.0 * mu) / rho
+    cw = math.sqrt(c2)
+    qv = 0.0
+    qb = 0.0
+    dw_visc = 0.0
+    if ebar < 0.0:
+        qv = mat[M_BULK_LIN] * cw - mat[M_BULK_QUAD] * lch * ebar
+        qb = -rho * lch * qv * ebar
+        dw_visc = -qb * ebar * vol * dt
+    om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
+    return qb, dw_visc, 2.0 / om
+
+
 @njit(**_jit)
 def _element(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0, mat, dt, bbar, sc, a, b, fl):
     """Element ``e`` (first node ``n0``): update its 8 Gauss points, scatter its forces into ``f``.
@@ -188,21 +210,8 @@ def _element(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0, ma
     # wave speed, characteristic length (centre face vectors, as the one-point element), bulk viscosity, step
     c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, detc = _face_vectors(a[1, 0], a[1, 1], a[1, 2], a[2, 0], a[2, 1],
                                                                       a[2, 2], a[3, 0], a[3, 1], a[3, 2])
-    amax = max(c1x * c1x + c1y * c1y + c1z * c1z, c2x * c2x + c2y * c2y + c2z * c2z)
-    amax = max(amax, c3x * c3x + c3y * c3y + c3z * c3z)
-    lch = 2.0 * detc / math.sqrt(amax)
-    rho = mat[M_RHO] * vol0[e] / vol
-    c2 = (lam + 2.0 * mu) / rho
-    cw = math.sqrt(c2)
-    qv = 0.0
-    qb = 0.0
-    dw_visc = 0.0
-    if ebar < 0.0:
-        qv = mat[M_BULK_LIN] * cw - mat[M_BULK_QUAD] * lch * ebar
-        qb = -rho * lch * qv * ebar
-        dw_visc = -qb * ebar * vol * dt
-    om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
-    dt_e = 2.0 / om
+    qb, dw_visc, dt_e = _viscosity_and_step(c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, detc, vol, vol0[e], mat,
+                                             lam, mu, ebar, dt)
     # stress update per Gauss point (sc[g]: 19-24 the new stress)
     dw_int = 0.0
     dw_pl = 0.0
@@ -466,21 +475,8 @@ def _element_v(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0, 
         return 0.0, ST_DISTORTION, 0.0, 0.0, 0.0
     ebar = evsum / vol
     c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, detc = _face_vectors(a1x, a1y, a1z, a2x, a2y, a2z, a3x, a3y, a3z)
-    amax = max(c1x * c1x + c1y * c1y + c1z * c1z, c2x * c2x + c2y * c2y + c2z * c2z)
-    amax = max(amax, c3x * c3x + c3y * c3y + c3z * c3z)
-    lch = 2.0 * detc / math.sqrt(amax)
-    rho = mat[M_RHO] * vol0[e] / vol
-    c2 = (lam + 2.0 * mu) / rho
-    cw = math.sqrt(c2)
-    qv = 0.0
-    qb = 0.0
-    dw_visc = 0.0
-    if ebar < 0.0:
-        qv = mat[M_BULK_LIN] * cw - mat[M_BULK_QUAD] * lch * ebar
-        qb = -rho * lch * qv * ebar
-        dw_visc = -qb * ebar * vol * dt
-    om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
-    dt_e = 2.0 / om
+    qb, dw_visc, dt_e = _viscosity_and_step(c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, detc, vol, vol0[e], mat,
+                                             lam, mu, ebar, dt)
     # lanes: B-bar rates (stored back), trial stresses and their von Mises values
     for g in range(8):
         lxx = w[_LR * 8 + g]
