@@ -170,7 +170,8 @@ def dent_bottom(xs, us) -> float:
     its axis first, so the spline is symmetric there and a node-aimed dent keeps its node value).
     A shot aimed between nodes has its deepest point between them, which the deepest node reads
     too shallow by up to the curvature of the dent bottom times (h / 2)^2 / 2; on the 6.25 um
-    lines taken at 25 um spacing this reading is within 0.5 % of the full line (``bias``)."""
+    lines taken at 25 um spacing this reading is within 0.4 % of the full line on average, 0.9 % at
+    worst (``bias``)."""
     xs, us = _whole_line(xs, us)
     k = int(np.argmax(us))
     if k == 0 or k == len(xs) - 1:
