@@ -484,7 +484,7 @@ def friction_hump() -> None:
 
 def recovery(cases=("sae-25-90", "sae-55-90"), sizes=(50.0, 25.0, 12.5, 6.25)) -> None:
     """Where a normal dent's error comes from (runs not stored; quarter model, node-aimed): the shot's
-    largest approach (its lowest point's travel into the target, m), the residual dent read between
+    largest approach (its lowest point's travel into the target, um), the residual dent read between
     nodes, the elastic recovery between them, the peak force and the contact radius (Hertz-equivalent
     sqrt(5/2 <r^2>) of the nodal normal impulses at peak force; and the outermost contact node's radius)
     (BENCHMARKS.md 4c, "What the normal dents miss")."""

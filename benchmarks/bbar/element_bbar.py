@@ -60,7 +60,7 @@ from numba import njit
 
 from peenflow.fe.contact import contact_kinematic
 from peenflow.fe.element import (H1, H2, H3, H4, ST_DISTORTION, ST_NEGATIVE_VOLUME, ST_OK, SX, SY, SZ,
-                                 _face_vectors, _rates, corner_offsets, element_rows)
+                                 _face_vectors, _rates, _scaled9, corner_offsets, element_rows)
 from peenflow.fe.johnson_cook import (M_ADIABATIC, M_BULK_LIN, M_BULK_QUAD, M_HEAT, M_LAM, M_MU, M_RHO,
                                       jaumann_trial, plastic_correction, static_flow_stress, thermal_factor,
                                       von_mises)
@@ -169,16 +169,8 @@ def _element(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0, ma
                                                                          G3x, G3y, G3z)
         if not (det > 0.0):
             return 0.0, ST_NEGATIVE_VOLUME, 0.0, 0.0, 0.0
-        r = 1.0 / det
-        d1x = c1x * r
-        d1y = c1y * r
-        d1z = c1z * r
-        d2x = c2x * r
-        d2y = c2y * r
-        d2z = c2z * r
-        d3x = c3x * r
-        d3y = c3y * r
-        d3z = c3z * r
+        d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z = _scaled9(1.0 / det, c1x, c1y, c1z, c2x, c2y, c2z,
+                                                               c3x, c3y, c3z)
         lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy = _rates(V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z,
                                                              d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
         row = sc[g]
@@ -429,16 +421,8 @@ def _element_v(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0, 
         V3z = b3z + b5z * eta + b6z * xi + b7z * xe
         c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, det = _face_vectors(G1x, G1y, G1z, G2x, G2y, G2z,
                                                                          G3x, G3y, G3z)
-        r = 1.0 / det
-        d1x = c1x * r
-        d1y = c1y * r
-        d1z = c1z * r
-        d2x = c2x * r
-        d2y = c2y * r
-        d2z = c2z * r
-        d3x = c3x * r
-        d3y = c3y * r
-        d3z = c3z * r
+        d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z = _scaled9(1.0 / det, c1x, c1y, c1z, c2x, c2y, c2z,
+                                                               c3x, c3y, c3z)
         lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy = _rates(V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z,
                                                              d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
         w[_DU * 8 + g] = d1x
