@@ -1,7 +1,8 @@
 """Single impact of ``benchmarks/bench_hourglass.py`` run with a chosen element, on equal footing.
 
 :func:`run` is ``bench_hourglass.run(case, element, h_um)`` -- same mesh (:func:`bench_hourglass.block`),
-shot, contact (the kernel's :func:`peenflow.fe.contact.contact_kinematic`), boundary conditions
+shot, contact (the kernel's :func:`peenflow.fe.contact.contact_kinematic`; or, ``contact="mortar"``, the
+weighted-gap contact of :mod:`benchmarks.bbar.contact_mortar`), boundary conditions
 (fixed bottom, symmetric sides; quarter model for normal impacts, half model for oblique ones), the
 same event-driven start, impact and damped settle as :class:`peenflow.fe.impact.ImpactRun` (the
 kernel's helpers :func:`_shot_vector`, :func:`time_to_contact`, :func:`contact_estimates`,
@@ -49,6 +50,8 @@ from peenflow.fe.shots import Shots, time_to_contact  # noqa: E402
 from peenflow.fe.window import contact_estimates  # noqa: E402
 
 KINDS = {"physical": 0, "bbar": 1, "full": 2}
+#: sphere contact forms: the kernel's node contact, the mortar contact of benchmarks/bbar/contact_mortar.py
+CONTACTS = {"node": 0, "mortar": 1}
 
 
 @dataclass
@@ -78,9 +81,9 @@ def new_state(model: Model, kind: int) -> _State:
 
 def phase(model: Model, st: _State, kind: int, mode: int, shot: np.ndarray, *, safety, alpha, rest_ke, rest_v,
           e_ref, force_scale=1.0, dt_floor_fraction=0.05, runaway=0.25, max_steps=2_000_000, record_every=0,
-          record_capacity=0, where="impact"):
+          record_capacity=0, where="impact", contact=0):
     """:meth:`peenflow.fe.model.Model.phase` on the whole mesh (no window, no viscous-spring faces, serial)
-    with the element ``kind``; returns ``(info, records)``."""
+    with the element ``kind`` and the contact form ``contact`` (:data:`CONTACTS`); returns ``(info, records)``."""
     win = model.full_window
     hold = model.hold_flags(win)
     st.f[:] = 0.0
@@ -106,7 +109,7 @@ def phase(model: Model, st: _State, kind: int, mode: int, shot: np.ndarray, *, s
     status = run_phase_bbar(kind, mode, max_steps, record_every if record_capacity > 0 else 0, st.x, st.v, st.f,
                             model.mass, model.bc, st.stress, st.eps_p, st.sy_static, st.hg, st.temp, model.vol0,
                             model.mat, model.mat_static, model.mesh.x, model.mesh.y, model.nnx, model.nny, model.nx,
-                            model.ny, win, hold, shot, ctl, st.energy, rec, info, model.cand, model.dn)
+                            model.ny, win, hold, shot, ctl, st.energy, rec, info, model.cand, model.dn, contact)
     check_status(status, where=where, time=float(ctl[S.C_TIME]))
     return info, rec[: int(info[S.I_NREC])].copy()
 
@@ -127,8 +130,10 @@ class Result:
     gp_stress: np.ndarray | None = None
 
 
-def simulate(target: Target, material: Material, shots: Shots, options: Options, element: str) -> Result:
-    """One shot (``shots`` of length 1) on ``target`` with the element ``element``; dynamic final relaxation.
+def simulate(target: Target, material: Material, shots: Shots, options: Options, element: str,
+             contact: str = "node") -> Result:
+    """One shot (``shots`` of length 1) on ``target`` with the element ``element`` and the sphere contact
+    ``contact`` (:data:`CONTACTS`); dynamic final relaxation.
 
     Mirrors :meth:`peenflow.fe.impact.ImpactRun.impact` / :meth:`~peenflow.fe.impact.ImpactRun.result` for
     ``window=False`` on a non-periodic target, step for step."""
@@ -154,7 +159,7 @@ def simulate(target: Target, material: Material, shots: Shots, options: Options,
                     rest_v=options.rest_v_fraction * speed, e_ref=e_imp, force_scale=1.0 / frac,
                     dt_floor_fraction=options.dt_floor_fraction, runaway=options.runaway_fraction,
                     max_steps=options.max_steps, record_every=options.record_every,
-                    record_capacity=200_000 if options.record else 0)
+                    record_capacity=200_000 if options.record else 0, contact=CONTACTS[contact])
     hist = {"w_int": r[:, 12], "w_hourglass": r[:, 14], "time": r[:, 0], "velocity": r[:, 7:10]}
     shot_rec = {"restitution": np.array([-info[S.I_VZ] / vel[2]]), "vout_x": np.array([info[S.I_VX]]),
                 "steps": np.array([int(info[S.I_STEPS])]), "energy_error": np.array([info[S.I_E_ERR] / e_imp]),
@@ -206,15 +211,16 @@ def _options(**extra) -> Options:
     return Options(window=False, record=True, record_every=20, **bh.ELEMENTS["physical"], **extra)
 
 
-def warm_up(element: str, mat: dict) -> None:
+def warm_up(element: str, mat: dict, contact: str = "node") -> None:
     """Compile (or load) the kernels outside the timing: a tiny impact on a 100 um mesh, as bench_hourglass."""
     tiny = BoxMesh(*(np.arange(5) * 1e-4,) * 2, np.arange(4) * 1e-4)
     simulate(Target(tiny), Material(**mat), Shots(centres=[[0, 0, -bh.R - 1e-6]], velocities=[[0, 0, 5.0]],
-                                                  radius=bh.R, density=7800.0), _options(), element)
+                                                  radius=bh.R, density=7800.0), _options(), element, contact)
 
 
-def run(case: str, element: str, h_um: float, **extra) -> dict:
-    """``bench_hourglass.run(case, element, h_um)`` with ``element`` in :data:`KINDS` and the dynamic final
+def run(case: str, element: str, h_um: float, contact: str = "node", **extra) -> dict:
+    """``bench_hourglass.run(case, element, h_um)`` with ``element`` in :data:`KINDS`, the sphere contact
+    ``contact`` (:data:`CONTACTS`) and the dynamic final
     relaxation; the metrics of :func:`bench_hourglass.metrics`, CPU s (process time, this process only),
     wall s, the step counts."""
     mat, speed, angle = bh.CASES[case]
@@ -223,14 +229,14 @@ def run(case: str, element: str, h_um: float, **extra) -> dict:
     th = np.radians(angle)
     shots = Shots(centres=[[0.0, 0.0, -bh.R - 1e-6]], velocities=[speed * np.array([np.cos(th), 0.0, np.sin(th)])],
                   radius=bh.R, density=7800.0)
-    warm_up(element, mat)
+    warm_up(element, mat, contact)
     t0 = time.process_time()
     w0 = time.perf_counter()
-    res = simulate(Target(mesh), Material(**mat), shots, _options(**extra), element)
+    res = simulate(Target(mesh), Material(**mat), shots, _options(**extra), element, contact)
     cpu = time.process_time() - t0
     out = bh.metrics(res, mesh)
     out.update(cpu_s=cpu, wall_s=time.perf_counter() - w0, elements=mesh.n_elements, impact_steps=res.impact_steps,
-               relax_steps=res.relax_steps, element=element, h_um=h_um, case=case,
+               relax_steps=res.relax_steps, element=element, h_um=h_um, case=case, contact=contact,
                command=f"PYTHONPATH=. python benchmarks/bench_bbar.py run {case} {element} {h_um:g}")
     return out
 

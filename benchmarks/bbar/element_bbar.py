@@ -58,6 +58,7 @@ import math
 import numpy as np
 from numba import njit
 
+from benchmarks.bbar.contact_mortar import contact_mortar
 from peenflow.fe.contact import contact_kinematic
 from peenflow.fe.element import (H1, H2, H3, H4, ST_DISTORTION, ST_NEGATIVE_VOLUME, ST_OK, SX, SY, SZ,
                                  _face_vectors, _rates, _scaled9, corner_offsets, element_rows)
@@ -611,10 +612,12 @@ def element_pass(kind, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, d
 @njit(**_jit)
 def run_phase_bbar(kind, mode, max_steps, record_every, x, v, f, mass, bc, stress, eps_p, sy_static, hg, temp, vol0,
                    mat_dyn, mat_static, xs_ref, ys_ref, nnx, nny, nx, ny, win, hold, shot, ctl, energy, rec, info,
-                   cand, dn):
+                   cand, dn, contact_form):
     """Copy of :func:`peenflow.fe.solver.run_phase` (same steps, same order, same stop rules) with the
-    element pass of ``kind`` (:func:`element_pass`) and without viscous-spring window faces and periodic
-    tying (serial). With ``kind = 0`` it is the kernel's loop (bit-identical: tests/fe/test_bbar_element.py)."""
+    element pass of ``kind`` (:func:`element_pass`) and the sphere contact of ``contact_form`` (0 the
+    kernel's node contact, 1 the mortar contact of :mod:`benchmarks.bbar.contact_mortar`), without
+    viscous-spring window faces and periodic tying (serial). With ``kind = 0`` and ``contact_form = 0`` it is
+    the kernel's loop (bit-identical: tests/fe/test_bbar_element.py)."""
     i0, i1, j0, j1, k0, k1 = win[0], win[1], win[2], win[3], win[4], win[5]
     ni0, ni1, nj0, nj1, nk0, nk1 = i0, i1, j0, j1, k0, k1
     dt_prev = ctl[S.C_DT_PREV]
@@ -684,8 +687,12 @@ def run_phase_bbar(kind, mode, max_steps, record_every, x, v, f, mass, bc, stres
             shot[0] += dt * shot[3]
             shot[1] += dt * shot[4]
             shot[2] += dt * shot[5]
-            ncon, jx, jy, jz, de, mov, mrad, dke, r2m = contact_kinematic(
-                x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0, nj1, cand, dn)
+            if contact_form == 1:
+                ncon, jx, jy, jz, de, mov, mrad, dke, r2m = contact_mortar(
+                    x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0, nj1, cand, dn)
+            else:
+                ncon, jx, jy, jz, de, mov, mrad, dke, r2m = contact_kinematic(
+                    x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0, nj1, cand, dn)
             ke += dke
             energy[S.E_CONTACT] += de
             if ncon > 0:

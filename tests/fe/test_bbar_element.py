@@ -316,7 +316,7 @@ def _undamped(safety, steps=3000):
     status = run_phase_bbar(1, S.MODE_RELAX, steps, 0, x, v, f, model.mass, model.bc, st[0], st[1], st[2],
                             np.zeros((1, 12)), st[3], model.vol0, model.mat, model.mat_static, mesh.x, mesh.y,
                             model.nnx, model.nny, model.nx, model.ny, win, model.hold_flags(win), np.zeros(14), ctl,
-                            energy, np.zeros((1, S.N_REC)), info, model.cand, model.dn)
+                            energy, np.zeros((1, S.N_REC)), info, model.cand, model.dn, 0)
     return status, info[S.I_E_ERR] / ke0, (info[S.I_KE_END] + energy[S.E_INT]) / ke0
 
 
