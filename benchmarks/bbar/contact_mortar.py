@@ -37,6 +37,15 @@ _G3 = (-0.7745966692414834, 0.0, 0.7745966692414834)
 _W3 = (0.5555555555555556, 0.8888888888888888, 0.5555555555555556)
 
 
+@njit(**_jit, inline="always")
+def _accumulate(g, w, s, nw, gq, first):
+    """A Gauss point's share ``nw`` (= N_n w_q, m^2) of its gap ``gq`` (m) into the near node ``s`` (-1: not near)."""
+    if s >= 0:
+        g[s] += nw * gq
+        if first:
+            w[s] += nw
+
+
 @njit(**_jit)
 def _weighted_gaps(x, xs_ref, ys_ref, nnx, ia, ib, ja, jb, slot, nbx, cx, cy, cz, R, w, g, first):
     """Weighted gap ``g[a]`` (m) of each near node ``a`` (``slot``: the node box ``(i - ia) + nbx (j - ja)``
@@ -73,22 +82,10 @@ def _weighted_gaps(x, xs_ref, ys_ref, nnx, ia, ib, ja, jb, slot, nbx, cx, cy, cz
                     py = N00 * x[n00, 1] + N10 * x[n10, 1] + N01 * x[n01, 1] + N11 * x[n11, 1] - cy
                     pz = N00 * x[n00, 2] + N10 * x[n10, 2] + N01 * x[n01, 2] + N11 * x[n11, 2] - cz
                     gq = math.sqrt(px * px + py * py + pz * pz) - R
-                    if s00 >= 0:
-                        g[s00] += N00 * wq * gq
-                        if first:
-                            w[s00] += N00 * wq
-                    if s10 >= 0:
-                        g[s10] += N10 * wq * gq
-                        if first:
-                            w[s10] += N10 * wq
-                    if s01 >= 0:
-                        g[s01] += N01 * wq * gq
-                        if first:
-                            w[s01] += N01 * wq
-                    if s11 >= 0:
-                        g[s11] += N11 * wq * gq
-                        if first:
-                            w[s11] += N11 * wq
+                    _accumulate(g, w, s00, N00 * wq, gq, first)
+                    _accumulate(g, w, s10, N10 * wq, gq, first)
+                    _accumulate(g, w, s01, N01 * wq, gq, first)
+                    _accumulate(g, w, s11, N11 * wq, gq, first)
     for a in range(g.shape[0]):
         g[a] /= w[a]
 
@@ -128,8 +125,9 @@ def contact_mortar(x, v, mass, bc, xs_ref, ys_ref, nnx, shot, dt, ni0, ni1, nj0,
         hmax = max(hmax, xs_ref[i + 1] - xs_ref[i])
     for j in range(ja, jb):
         hmax = max(hmax, ys_ref[j + 1] - ys_ref[j])
-    # near: within 1.5 face widths of the sphere (a face whose corners are all farther cannot cut it);
-    # only near nodes can become active, but every face next to one enters its weighted gap
+    # near: within 1.5 face widths of the sphere. A face's points lie within its diagonal (< 1.5 h) of a
+    # corner, so a face whose corners are all farther cannot cut it; only near nodes can become active,
+    # but every face next to one enters its weighted gap
     dlim = 1.5 * hmax
     for j in range(ja, jb + 1):
         for i in range(ia, ib + 1):
