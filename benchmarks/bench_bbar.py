@@ -82,13 +82,9 @@ def table() -> None:
         for label, v, h in rows:
             if v is None:
                 continue
-            cells = []
-            for k, _, kind in bh.QUANTITIES:
-                e = bh._error(v, ref, k, kind)
-                cells.append(f"{e:+.3f}" if kind == "abs" else f"{100 * e:+.1f} %")
             steps = f"{v['impact_steps']} + {v['relax_steps']}" if "impact_steps" in v else ""
-            print(f"| {label} | {h:g} | " + " | ".join(cells) + f" | {100 * bh.profile_rms(v, ref):.1f} % | "
-                  f"{v['cpu_s']:.1f} | {steps} |")
+            print(f"| {label} | {h:g} | " + " | ".join(bh.error_cells(v, ref)) +
+                  f" | {100 * bh.profile_rms(v, ref):.1f} % | {v['cpu_s']:.1f} | {steps} |")
     print("\n#### Largest |error| over the four cases (driver runs)\n")
     print("| element | h um | " + " | ".join(q[1] for q in bh.QUANTITIES) + " | profile RMS | CPU s (sum of 4) |")
     print("|---|---|" + "---|" * (len(bh.QUANTITIES) + 2))
@@ -98,11 +94,7 @@ def table() -> None:
             runs = [(data.get(_key(c, el, h)), refs[c]) for c in bh.CASES]
             if any(v is None for v, _ in runs):
                 continue
-            cells = []
-            for k, _, kind in bh.QUANTITIES:
-                w = max(abs(bh._error(v, r, k, kind)) for v, r in runs)
-                cells.append(f"{w:.3f}" if kind == "abs" else f"{100 * w:.1f} %")
-            rms = max(bh.profile_rms(v, r) for v, r in runs)
+            cells, rms = bh.worst_cells(runs)
             print(f"| {el} | {h:g} | " + " | ".join(cells) + f" | {100 * rms:.1f} % | "
                   f"{sum(v['cpu_s'] for v, _ in runs):.0f} |")
     print("\n#### Equal cost: B-bar at h against physical at h / 2 (driver runs; |error|, the closer one in bold)\n")

@@ -66,11 +66,7 @@ def table() -> None:
                 v = data.get(_key(case, contact, h))
                 if v is None:
                     continue
-                cells = []
-                for k, _, kind in bh.QUANTITIES:
-                    e = bh._error(v, ref, k, kind)
-                    cells.append(f"{e:+.3f}" if kind == "abs" else f"{100 * e:+.1f} %")
-                print(f"| {case} | {contact} | {h:g} | " + " | ".join(cells) +
+                print(f"| {case} | {contact} | {h:g} | " + " | ".join(bh.error_cells(v, ref)) +
                       f" | {100 * bh.profile_rms(v, ref):.1f} % | {v['max_approach_um']:.2f} | "
                       f"{v['max_approach_um'] - v['dent_um']:.2f} | {v['contact_radius_um']:.1f} | "
                       f"{v['energy_error']:.4f} | {v['cpu_s']:.1f} |")
@@ -83,11 +79,7 @@ def table() -> None:
             runs = [(data.get(_key(c, contact, h)), refs[c]) for c in bh.CASES]
             if any(v is None for v, _ in runs):
                 continue
-            cells = []
-            for k, _, kind in bh.QUANTITIES:
-                w = max(abs(bh._error(v, r, k, kind)) for v, r in runs)
-                cells.append(f"{w:.3f}" if kind == "abs" else f"{100 * w:.1f} %")
-            rms = max(bh.profile_rms(v, r) for v, r in runs)
+            cells, rms = bh.worst_cells(runs)
             print(f"| {contact} | {h:g} | " + " | ".join(cells) + f" | {100 * rms:.1f} % |")
 
 

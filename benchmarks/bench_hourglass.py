@@ -551,6 +551,26 @@ def _error(v: dict, ref: dict, key: str, kind: str) -> float:
     return v[key] - ref[key] if kind == "abs" else v[key] / ref[key] - 1.0
 
 
+def error_cells(v: dict, ref: dict) -> list[str]:
+    """The tables' cells of run ``v`` against ``ref``, one per :data:`QUANTITIES`: signed, relative in %
+    (restitution: the difference)."""
+    cells = []
+    for k, _, kind in QUANTITIES:
+        e = _error(v, ref, k, kind)
+        cells.append(f"{e:+.3f}" if kind == "abs" else f"{100 * e:+.1f} %")
+    return cells
+
+
+def worst_cells(runs: list[tuple[dict, dict]]) -> tuple[list[str], float]:
+    """Largest |error| over ``runs`` ((run, its reference) pairs) per :data:`QUANTITIES`, as the tables'
+    cells, and the largest profile RMS (:func:`profile_rms`)."""
+    cells = []
+    for k, _, kind in QUANTITIES:
+        w = max(abs(_error(v, r, k, kind)) for v, r in runs)
+        cells.append(f"{w:.3f}" if kind == "abs" else f"{100 * w:.1f} %")
+    return cells, max(profile_rms(v, r) for v, r in runs)
+
+
 def reference(data: dict, case: str) -> tuple[dict, str]:
     """Converged reference of a case: the finest physical-element run, Richardson-extrapolated per
     quantity where h, h/2, h/4 converge monotonically with an order in [1, 3] (else the finest value)."""
@@ -591,11 +611,7 @@ def table() -> None:
                 v = data.get(f"{case}/{element}/{h:g}")
                 if v is None:
                     continue
-                cells = []
-                for k, _, kind in QUANTITIES:
-                    e = _error(v, ref, k, kind)
-                    cells.append(f"{e:+.3f}" if kind == "abs" else f"{100 * e:+.1f} %")
-                print(f"| {element} | {h:g} | " + " | ".join(cells) + f" | {100 * profile_rms(v, ref):.1f} % | "
+                print(f"| {element} | {h:g} | " + " | ".join(error_cells(v, ref)) + f" | {100 * profile_rms(v, ref):.1f} % | "
                       f"{100 * profile_rms(v, ref, 'lines'):.1f} % | {v['hg_over_int']:.3f} | {v['cpu_s']:.0f} |")
 
 
@@ -676,20 +692,13 @@ def summary() -> None:
     print("|---|---|---|" + "---|" * (len(QUANTITIES) + 2))
     for element in ELEMENTS:
         for h in (60, 50, 40, 25, 12.5):
-            worst = {k: 0.0 for k, _, _ in QUANTITIES}
-            rms_w, hg_w, n = 0.0, 0.0, 0
-            for case, ref in refs.items():
-                v = data.get(f"{case}/{element}/{h:g}")
-                if v is None or not ref:
-                    continue
-                n += 1
-                for k, _, kind in QUANTITIES:
-                    worst[k] = max(worst[k], abs(_error(v, ref, k, kind)))
-                rms_w = max(rms_w, profile_rms(v, ref))
-                hg_w = max(hg_w, v["hg_over_int"])
-            if n:
-                cells = [f"{worst[k]:.3f}" if kind == "abs" else f"{100 * worst[k]:.1f} %" for k, _, kind in QUANTITIES]
-                print(f"| {element} | {h:g} | {n} | " + " | ".join(cells) + f" | {100 * rms_w:.1f} % | {hg_w:.3f} |")
+            runs = [(v, ref) for case, ref in refs.items()
+                    if (v := data.get(f"{case}/{element}/{h:g}")) is not None and ref]
+            if runs:
+                cells, rms_w = worst_cells(runs)
+                hg_w = max(v["hg_over_int"] for v, _ in runs)
+                print(f"| {element} | {h:g} | {len(runs)} | " + " | ".join(cells) +
+                      f" | {100 * rms_w:.1f} % | {hg_w:.3f} |")
 
 
 def remetric() -> None:
