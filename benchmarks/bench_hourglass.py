@@ -22,6 +22,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_hourglass.py friction                # the 45 deg hump with and without friction
     PYTHONPATH=. python benchmarks/bench_hourglass.py variants                # thinner top layers, 20 um (not stored)
     PYTHONPATH=. python benchmarks/bench_hourglass.py recovery                # normal dents: approach vs recovery (not stored)
+    PYTHONPATH=. python benchmarks/bench_hourglass.py cores                   # a finer core under the shot (stored)
 
 Every run is stored (metrics, CPU s, the command) in
 ``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
@@ -100,20 +101,35 @@ AXIS_ZONE = 50e-6  # half width of the column averaged for sigma_xx(z), m
 PROFILE_DEPTH = 0.3e-3
 
 
-def block(h: float, oblique: bool, surface_layers: tuple[float, float] | None = None) -> BoxMesh:
+def cored(axis: np.ndarray, fine: float, h: float, hc: float, core: float) -> np.ndarray:
+    """``axis`` (nodes on [0, ...], elements ``h`` up to ``fine`` m) with elements ``hc`` m up to
+    ``core`` m, growing by at most 1.2 per element to ``h`` before ``fine``; the nodes beyond
+    ``fine`` are kept as they are, so the block outside the fine zone is the same (:func:`block`)."""
+    inner = graded_axis(core, hc, fine, 1.2, h_max=h)
+    return np.concatenate([inner, axis[axis > fine * (1 + 1e-9)]])
+
+
+def block(h: float, oblique: bool, surface_layers: tuple[float, float] | None = None,
+          core: tuple[float, float, float] | None = None) -> BoxMesh:
     """Quarter (normal) or half (oblique; y >= 0) model of the 6D x 6D x 1.29 mm block.
 
-    ``surface_layers``: (depth, layer thickness) m of thinner top layers (:func:`variants`)."""
+    ``surface_layers``: (depth, layer thickness) m of thinner top layers (:func:`variants`);
+    ``core``: (element size, half width, depth) m of a finer core under the shot (:func:`cores`;
+    along the stream of an oblique shot the same half width either side of the aim)."""
     half, depth, fine_depth = 3 * D, 1.29e-3, PROFILE_DEPTH
     lat = graded_axis(0.3e-3, h, half, 1.2)
     z = graded_axis(fine_depth, h, depth, 1.2)
+    along = graded_axis(0.45e-3, h, half, 1.2)
     if surface_layers is not None:
         top, hz = surface_layers
         rest = graded_axis(fine_depth - top, h, depth - top, 1.2, start=top)
         z = np.concatenate([np.arange(0.0, top + 1e-12, hz), rest[1:]])
+    if core is not None:
+        hc, core_half, core_depth = core
+        lat, along = cored(lat, 0.3e-3, h, hc, core_half), cored(along, 0.45e-3, h, hc, core_half)
+        z = cored(z, fine_depth, h, hc, core_depth)
     if not oblique:
         return BoxMesh(lat, lat.copy(), z)
-    along = graded_axis(0.45e-3, h, half, 1.2)
     return BoxMesh(np.concatenate([-along[::-1], along[1:]]), lat, z)
 
 
@@ -373,14 +389,15 @@ def metrics(res, mesh: BoxMesh) -> dict:
 
 
 def run(case: str, element: str, h_um: float, offset: float = 0.0, friction: float | None = None,
-        surface_layers: tuple[float, float] | None = None) -> dict:
+        surface_layers: tuple[float, float] | None = None, core: tuple[float, float, float] | None = None) -> dict:
     """One run of ``case``; ``offset``: the shot's aim along the plane of incidence in elements from a
     node (0: on a node, the tables' runs; else on the half model, normal impacts too); ``friction``:
     the Coulomb coefficient if not the kernel's default 0.2 (:func:`friction_hump`);
-    ``surface_layers``: thinner top layers (:func:`block`; on the half model)."""
+    ``surface_layers``: thinner top layers (:func:`block`; on the half model); ``core``: a finer core
+    under the shot (:func:`block`, :func:`cores`)."""
     mat, speed, angle = CASES[case]
     oblique = angle != 90.0 or offset != 0.0 or surface_layers is not None
-    mesh = block(h_um * 1e-6, oblique, surface_layers)
+    mesh = block(h_um * 1e-6, oblique, surface_layers, core)
     th = np.radians(angle)
     shots = Shots(centres=[[offset * h_um * 1e-6, 0.0, -R - 1e-6]],
                   velocities=[speed * np.array([np.cos(th), 0.0, np.sin(th)])], radius=R, density=7800.0)
@@ -523,6 +540,48 @@ def variants() -> None:
         line(case, "25 um" if layers is None else f"25 um, top {layers[0]:g} um in {layers[1]:g} um layers", v)
     for case in CASES:
         line(case, "20 um", run(case, "physical", 20.0, surface_layers=(0.0, 20e-6)))
+
+
+#: finer cores under the shot (element size, half width, depth um) on a 25 um block, :func:`cores`
+CORES = ((12.5, 150.0, 100.0), (12.5, 150.0, 150.0), (12.5, 200.0, 100.0), (6.25, 150.0, 100.0))
+
+
+def core_key(case: str, h_um: float, core_um: tuple[float, float, float]) -> str:
+    return f"{case}/physical-core/{h_um:g}/" + "/".join(f"{c:g}" for c in core_um)
+
+
+def cores(h_um: float = 25.0, variants=CORES) -> None:
+    """A finer core under the shot on the ``h_um`` block (:func:`block`): each case with each core of
+    ``variants``, stored, against the references, beside the uniform runs at ``h_um`` and at the core's
+    size (BENCHMARKS.md 4c, "A finer core under the shot")."""
+    stored = set(_load())
+    for case in CASES:
+        for c in variants:
+            if core_key(case, h_um, c) not in stored:
+                _store(core_key(case, h_um, c), run(case, "physical", h_um, core=tuple(x * 1e-6 for x in c)))
+    data = _load()
+    print("| case | mesh | elements | steps | CPU s | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS |")
+    print("|---|---|---|---|---|" + "---|" * (len(QUANTITIES) + 1))
+    worst: dict = {}
+    for case in CASES:
+        ref, _ = reference(data, case)
+        rows = [(f"{h_um:g} um", data.get(f"{case}/physical/{h_um:g}"))]
+        rows += [(f"{h_um:g} um, core {c[0]:g} um to {c[1]:g} um wide, {c[2]:g} um deep", data.get(core_key(case, h_um, c)))
+                 for c in variants]
+        rows += [(f"{hc:g} um", data.get(f"{case}/physical/{hc:g}")) for hc in sorted({c[0] for c in variants}, reverse=True)]
+        for label, v in rows:
+            if v is None:
+                continue
+            worst.setdefault(label.replace(f"{case} ", ""), []).append((v, ref))
+            print(f"| {case} | {label} | {v.get('elements', '')} | {v.get('steps', '')} | {v['cpu_s']:.1f} | "
+                  + " | ".join(error_cells(v, ref)) + f" | {100 * profile_rms(v, ref):.1f} % |")
+    print("\nLargest |error| over the four cases (node-aimed):\n")
+    print("| mesh | CPU s (sum of 4) | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS |")
+    print("|---|---|" + "---|" * (len(QUANTITIES) + 1))
+    for label, runs in worst.items():
+        if len(runs) == len(CASES):
+            cells, rms = worst_cells(runs)
+            print(f"| {label} | {sum(v['cpu_s'] for v, _ in runs):.0f} | " + " | ".join(cells) + f" | {100 * rms:.1f} % |")
 
 
 def _load() -> dict:
@@ -748,6 +807,8 @@ if __name__ == "__main__":
         variants()
     elif sys.argv[1] == "recovery":
         recovery()
+    elif sys.argv[1] == "cores":
+        cores()
     elif sys.argv[1] == "legacy":
         legacy()
     elif sys.argv[1] == "cost":
