@@ -25,9 +25,24 @@ import functools
 import importlib
 import importlib.util
 import inspect
+import threading
 from pathlib import Path
 
 from .canonical import digest
+
+
+# CPython 3.11 keeps the AST constructor's recursion depth in one state per
+# interpreter, not per thread: two threads parsing at once (tasks of a
+# dask.distributed worker fingerprinting their code) can fail with
+# "SystemError: AST constructor recursion depth mismatch" (python/cpython
+# gh-106905).  Parsing under one lock is cheap: fingerprints are cached per file.
+_PARSE_LOCK = threading.Lock()
+
+
+def parse(source: str) -> ast.AST:
+    """``ast.parse(source)``, one thread at a time."""
+    with _PARSE_LOCK:
+        return ast.parse(source)
 
 
 def _strip_docstrings(tree: ast.AST) -> ast.AST:
@@ -46,7 +61,7 @@ def _strip_docstrings(tree: ast.AST) -> ast.AST:
 
 def source_fingerprint(source: str) -> str:
     """Fingerprint of Python source text, blind to comments/docstrings/layout."""
-    tree = _strip_docstrings(ast.parse(source))
+    tree = _strip_docstrings(parse(source))
     return digest(ast.dump(tree, annotate_fields=True, include_attributes=False))
 
 
@@ -133,7 +148,7 @@ def local_imports(module_name: str) -> tuple[str, ...]:
         path = _module_file(name)
         if path is None:
             continue
-        tree = ast.parse(Path(path).read_text(encoding="utf-8"))
+        tree = parse(Path(path).read_text(encoding="utf-8"))
         for dep in _imported_modules(tree, name, Path(path).name == "__init__.py"):
             if dep.partition(".")[0] != top or dep in seen:
                 continue
@@ -157,7 +172,7 @@ def _is_task_def(node: ast.AST) -> bool:
 
 @functools.lru_cache(maxsize=None)
 def _task_fingerprint(path: str, fn_name: str) -> str:
-    tree = _strip_docstrings(ast.parse(Path(path).read_text(encoding="utf-8")))
+    tree = _strip_docstrings(parse(Path(path).read_text(encoding="utf-8")))
     # Other tasks of the same module are their own business; helpers, constants
     # and imports count for every task of the module.
     tree.body = [n for n in tree.body if not (_is_task_def(n) and n.name != fn_name)]
