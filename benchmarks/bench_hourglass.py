@@ -23,6 +23,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_hourglass.py variants                # thinner top layers, 20 um (not stored)
     PYTHONPATH=. python benchmarks/bench_hourglass.py recovery                # normal dents: approach vs recovery (not stored)
     PYTHONPATH=. python benchmarks/bench_hourglass.py cores                   # a finer core under the shot (stored)
+    PYTHONPATH=. python benchmarks/bench_hourglass.py study-cores             # the cores a study makes (stored)
 
 Every run is stored (metrics, CPU s, the command) in
 ``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
@@ -110,12 +111,13 @@ def cored(axis: np.ndarray, fine: float, h: float, hc: float, core: float) -> np
 
 
 def block(h: float, oblique: bool, surface_layers: tuple[float, float] | None = None,
-          core: tuple[float, float, float] | None = None) -> BoxMesh:
+          core: tuple[float, float, float] | None = None, study_core=None) -> BoxMesh:
     """Quarter (normal) or half (oblique; y >= 0) model of the 6D x 6D x 1.29 mm block.
 
     ``surface_layers``: (depth, layer thickness) m of thinner top layers (:func:`variants`);
     ``core``: (element size, half width, depth) m of a finer core under the shot (:func:`cores`;
-    along the stream of an oblique shot the same half width either side of the aim)."""
+    along the stream of an oblique shot the same half width either side of the aim); ``study_core``:
+    a :class:`tasks._impact_core.ImpactCore`, graded as a study grades it (:func:`study_cores`)."""
     half, depth, fine_depth = 3 * D, 1.29e-3, PROFILE_DEPTH
     lat = graded_axis(0.3e-3, h, half, 1.2)
     z = graded_axis(fine_depth, h, depth, 1.2)
@@ -128,6 +130,12 @@ def block(h: float, oblique: bool, surface_layers: tuple[float, float] | None = 
         hc, core_half, core_depth = core
         lat, along = cored(lat, 0.3e-3, h, hc, core_half), cored(along, 0.45e-3, h, hc, core_half)
         z = cored(z, fine_depth, h, hc, core_depth)
+    if study_core is not None:
+        from tasks._impact_core import cored_axis
+
+        c = study_core
+        lat, along = (cored_axis(a, h, c.element_size_m, c.half_width_m, 1.2) for a in (lat, along))
+        z = cored_axis(z, h, c.element_size_m, c.depth_m, 1.2)
     if not oblique:
         return BoxMesh(lat, lat.copy(), z)
     return BoxMesh(np.concatenate([-along[::-1], along[1:]]), lat, z)
@@ -389,18 +397,25 @@ def metrics(res, mesh: BoxMesh) -> dict:
 
 
 def run(case: str, element: str, h_um: float, offset: float = 0.0, friction: float | None = None,
-        surface_layers: tuple[float, float] | None = None, core: tuple[float, float, float] | None = None) -> dict:
+        surface_layers: tuple[float, float] | None = None, core: tuple[float, float, float] | None = None,
+        study_core_um: float | None = None) -> dict:
     """One run of ``case``; ``offset``: the shot's aim along the plane of incidence in elements from a
     node (0: on a node, the tables' runs; else on the half model, normal impacts too); ``friction``:
     the Coulomb coefficient if not the kernel's default 0.2 (:func:`friction_hump`);
     ``surface_layers``: thinner top layers (:func:`block`; on the half model); ``core``: a finer core
-    under the shot (:func:`block`, :func:`cores`)."""
+    under the shot (:func:`block`, :func:`cores`); ``study_core_um``: a core of that element size
+    sized and graded as a study's ``fidelity.dent_refinement = "core"`` makes it (:func:`study_cores`)."""
     mat, speed, angle = CASES[case]
     oblique = angle != 90.0 or offset != 0.0 or surface_layers is not None
-    mesh = block(h_um * 1e-6, oblique, surface_layers, core)
     th = np.radians(angle)
     shots = Shots(centres=[[offset * h_um * 1e-6, 0.0, -R - 1e-6]],
                   velocities=[speed * np.array([np.cos(th), 0.0, np.sin(th)])], radius=R, density=7800.0)
+    study_core = None
+    if study_core_um is not None:
+        from tasks._impact_core import core_for
+
+        study_core = core_for(Material(**mat), shots, speed, angle, study_core_um * 1e-6)
+    mesh = block(h_um * 1e-6, oblique, surface_layers, core, study_core)
     extra = {} if friction is None else {"friction": friction}
     opt = Options(window=False, record=True, record_every=20, **ELEMENTS[element], **extra)
     # compile (or load) the kernels outside the timing: a tiny impact on a 100 um mesh
@@ -560,19 +575,29 @@ def cores(h_um: float = 25.0, variants=CORES) -> None:
             if core_key(case, h_um, c) not in stored:
                 _store(core_key(case, h_um, c), run(case, "physical", h_um, core=tuple(x * 1e-6 for x in c)))
     data = _load()
+
+    def rows(case):
+        out = [(f"{h_um:g} um", data.get(f"{case}/physical/{h_um:g}"))]
+        out += [(f"{h_um:g} um, core {c[0]:g} um to {c[1]:g} um wide, {c[2]:g} um deep",
+                 data.get(core_key(case, h_um, c))) for c in variants]
+        return out + [(f"{hc:g} um", data.get(f"{case}/physical/{hc:g}"))
+                      for hc in sorted({c[0] for c in variants}, reverse=True)]
+
+    core_table(data, rows)
+
+
+def core_table(data: dict, rows) -> None:
+    """Per case the runs ``rows(case)`` gives ((label, stored run or None), ...) against the case's
+    reference, then each label's largest |error| over the four cases."""
     print("| case | mesh | elements | steps | CPU s | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS |")
     print("|---|---|---|---|---|" + "---|" * (len(QUANTITIES) + 1))
     worst: dict = {}
     for case in CASES:
         ref, _ = reference(data, case)
-        rows = [(f"{h_um:g} um", data.get(f"{case}/physical/{h_um:g}"))]
-        rows += [(f"{h_um:g} um, core {c[0]:g} um to {c[1]:g} um wide, {c[2]:g} um deep", data.get(core_key(case, h_um, c)))
-                 for c in variants]
-        rows += [(f"{hc:g} um", data.get(f"{case}/physical/{hc:g}")) for hc in sorted({c[0] for c in variants}, reverse=True)]
-        for label, v in rows:
+        for label, v in rows(case):
             if v is None:
                 continue
-            worst.setdefault(label.replace(f"{case} ", ""), []).append((v, ref))
+            worst.setdefault(label, []).append((v, ref))
             print(f"| {case} | {label} | {v.get('elements', '')} | {v.get('steps', '')} | {v['cpu_s']:.1f} | "
                   + " | ".join(error_cells(v, ref)) + f" | {100 * profile_rms(v, ref):.1f} % |")
     print("\nLargest |error| over the four cases (node-aimed):\n")
@@ -582,6 +607,38 @@ def cores(h_um: float = 25.0, variants=CORES) -> None:
         if len(runs) == len(CASES):
             cells, rms = worst_cells(runs)
             print(f"| {label} | {sum(v['cpu_s'] for v, _ in runs):.0f} | " + " | ".join(cells) + f" | {100 * rms:.1f} % |")
+
+
+#: core element sizes (um) of :func:`study_cores`
+STUDY_CORES = (12.5, 6.25)
+
+
+def study_core_key(case: str, h_um: float, hc_um: float) -> str:
+    return f"{case}/physical-studycore/{h_um:g}/{hc_um:g}"
+
+
+def study_cores(h_um: float = 25.0, sizes=STUDY_CORES) -> None:
+    """The cores a study makes (``fidelity.dent_refinement = "core"``, :mod:`tasks._impact_core`:
+    1.5 estimated contact radii either side of the aim, one deep, graded back to ``h_um`` within the
+    block's ratio 1.2) on the ``h_um`` block, each case, stored, against the references beside the
+    uniform runs at ``h_um`` and at the core's size (BENCHMARKS.md 4c, "A finer core under the shot")."""
+    stored = set(_load())
+    for case in CASES:
+        for hc in sizes:
+            if study_core_key(case, h_um, hc) not in stored:
+                out = run(case, "physical", h_um, study_core_um=hc)
+                out["command"] = f"PYTHONPATH=. python benchmarks/bench_hourglass.py study-cores"
+                _store(study_core_key(case, h_um, hc), out)
+    data = _load()
+
+    def rows(case):
+        out = [(f"{h_um:g} um", data.get(f"{case}/physical/{h_um:g}"))]
+        for hc in sizes:
+            out += [(f"{h_um:g} um, study core {hc:g} um", data.get(study_core_key(case, h_um, hc))),
+                    (f"{hc:g} um", data.get(f"{case}/physical/{hc:g}"))]
+        return out
+
+    core_table(data, rows)
 
 
 def _load() -> dict:
@@ -809,6 +866,8 @@ if __name__ == "__main__":
         recovery()
     elif sys.argv[1] == "cores":
         cores()
+    elif sys.argv[1] == "study-cores":
+        study_cores()
     elif sys.argv[1] == "legacy":
         legacy()
     elif sys.argv[1] == "cost":

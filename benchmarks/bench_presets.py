@@ -207,8 +207,22 @@ DENT_FIT_COARSEST_UM = 16.0
 
 
 def dent_levels(data: dict) -> dict[float, dict]:
-    """{element size um of the target's single impact: its entry} (``bench_reference.py dent``)."""
-    return {float(k.split("/")[2]): v for k, v in data.items() if k.startswith(TARGET + "/dent/")}
+    """{element size um of the target's single impact, refined throughout: its entry}
+    (``bench_reference.py dent``)."""
+    return {float(k.split("/")[2]): v for k, v in data.items()
+            if k.startswith(TARGET + "/dent/") and "c" not in k.split("/")[2]}
+
+
+def dent_core_levels(data: dict) -> dict[tuple[float, float], dict]:
+    """{(block element size um, core element size um): its entry}: the target's single impact with a
+    finer core under it (``bench_reference.py dent HcC``, ``fidelity.dent_refinement = "core"``)."""
+    out = {}
+    for k, v in data.items():
+        name = k.split("/")[2] if k.startswith(TARGET + "/dent/") else ""
+        if "c" in name:
+            block, _, core = name.partition("c")
+            out[(float(block), float(core))] = v
+    return out
 
 
 def n_f_reference(data: dict | None = None) -> dict:
@@ -248,6 +262,8 @@ def n_f_reference(data: dict | None = None) -> dict:
     triples = [tuple(hs[:3][::-1])] + ([(16.0, 10.0, 6.25)] if {16.0, 10.0, 6.25} <= set(lv) else [])
     out["richardson"] = {t: richardson(list(t), [lv[h]["full_coverage_shots"] for h in t]) for t in triples}
     out["error_pct"] = {h: 100.0 * (v["full_coverage_shots"] / out["n0"] - 1.0) for h, v in sorted(lv.items())}
+    out["core_error_pct"] = {k: 100.0 * (v["full_coverage_shots"] / out["n0"] - 1.0)
+                             for k, v in sorted(dent_core_levels(data).items())}
     return out
 
 
@@ -355,10 +371,13 @@ def main(plot: str | None) -> None:
                  f"; free-order fit {nref['free_order'][0]:.1f} (p {nref['free_order'][1]:.2f})")
               + "".join(f"; Richardson {'/'.join(f'{h:g}' for h in t)}: "
                         + ("-" if v is None else f"{v:.1f} (order {p:.2f})") for t, (v, p) in nref["richardson"].items()))
-        print("| dent h um | N_f | error % |")
-        print("|---|---|---|")
-        for h, e in sorted(nref["error_pct"].items(), reverse=True):
-            print(f"| {h:g} | {dents[h]['full_coverage_shots']:.1f} | {e:+.1f} |")
+        print("| dent h um | N_f | error % | CPU s |")
+        print("|---|---|---|---|")
+        cores = dent_core_levels(data)
+        rows = [(h, f"{h:g}", dents[h], e) for h, e in nref["error_pct"].items()]
+        rows += [(c, f"core {c:g} in {b:g}", cores[(b, c)], e) for (b, c), e in nref["core_error_pct"].items()]
+        for _, name, v, e in sorted(rows, key=lambda r: (-r[0], r[1].startswith("core"), r[1])):
+            print(f"| {name} | {v['full_coverage_shots']:.1f} | {e:+.1f} | {v['cpu_s']:.0f} |")
     terr = target_errors(data)
     if terr:
         tref = target_reference(data)

@@ -17,7 +17,9 @@ A target LEVEL may also name the element size of its dent (``25d6.25s1``: REV at
 single impact whose dent gives N_f and N_c at 6.25 um, ``fidelity.dent_element_size_um``): levels
 with the same dent run the same number of shots, so they compare the REV's mesh at a fixed N.
 ``dent POINT H ...`` runs the target only up to its coverage curve at each element size H and
-records the dent ellipse, N_f and N_c (key ``POINT/dent/H``).
+records the dent ellipse, N_f and N_c (key ``POINT/dent/H``); ``HcC`` (``25c6.25``) runs the single
+impact on the H um block with a core of C um elements under the impact (``fidelity.dent_element_size_um
+= C``, ``dent_refinement = "core"``; key ``POINT/dent/HcC``).
 
 POINT is a study file stem under ``benchmarks/reference/studies/``: a strip point
 (``strip_90_55``, ``strip_67_25``/``30``/``35``) or the §5 target (``al7075_30``: a study
@@ -332,14 +334,19 @@ def _target_table(point: str, data: dict) -> None:
     named = sorted(((_parse_level(k.split("/")[1]), k.split("/")[1], v) for k, v in data.items()
                     if k.startswith(point + "/") and k.count("/") == 1),
                    key=lambda t: (-(t[0][1] or 0.0), -t[0][0], -(t[0][3] or t[0][0])))
-    dents = sorted(((float(k.split("/")[2]), v) for k, v in data.items() if k.startswith(point + "/dent/")),
-                   reverse=True)
+    def finest(name: str) -> float:  # "25c6.25": the 25 um block with a 6.25 um core
+        block, _, core = name.partition("c")
+        return float(core or block)
+
+    dents = sorted(((k.split("/")[2], v) for k, v in data.items() if k.startswith(point + "/dent/")),
+                   key=lambda t: (-finest(t[0]), "c" in t[0]))
     if dents:
-        print(f"\n#### {point}: the dent, N_f and N_c against the single impact's element size")
+        print(f"\n#### {point}: the dent, N_f and N_c against the single impact's element size "
+              "(H cC: the H um block with a core of C um elements under the impact)")
         print("| h um | semi-axes um | dent depth um | pile-up um | N_f | N_c | CPU s |")
         print("|---|---|---|---|---|---|---|")
-        for h, v in dents:
-            print(f"| {h:g} | {v['semi_axis_along_um']:.1f} x {v['semi_axis_across_um']:.1f} | {v['dent_depth_um']:.2f} | "
+        for name, v in dents:
+            print(f"| {name.replace('c', ' c')} | {v['semi_axis_along_um']:.1f} x {v['semi_axis_across_um']:.1f} | {v['dent_depth_um']:.2f} | "
                   f"{v['pileup_height_um']:.2f} | {v['full_coverage_shots']:.1f} | {v['coverage_shots']:.0f} | "
                   f"{v['cpu_s']:.0f} |")
     print(f"\n#### {point} (target profile, mean of the sequences; level H dD: REV at H um, dent at D um)")
@@ -372,13 +379,17 @@ def dent(point: str, sizes: list[str]) -> None:
     The REV thickness of each level study is the part's (what ``"auto"`` gives the single impact's
     block), so no REV-depth check runs; the coverage curve uses the same seeds at every size."""
     for text in sizes:
-        h = float(text)
-        study = _level_study(point, h)
+        block, _, core = text.partition("c")
+        h = float(block)
+        study = _level_study(point, h, dent_um=float(core) if core else None)
         body = study.read_text()
+        if core:
+            body = body.replace(f"dent_element_size_um = {float(core)!r}",
+                                f'dent_element_size_um = {float(core)!r}\ndent_refinement = "core"')
         part = next(ln.split("=")[1].split("#")[0].strip() for ln in body.splitlines()
                     if ln.strip().startswith("thickness_mm"))
         body = body.replace('rev_thickness_mm = "auto"', f"rev_thickness_mm = {part}")
-        path = study.parent / "dent" / f"h{h:g}.toml"
+        path = study.parent / "dent" / (f"h{h:g}c{float(core):g}.toml" if core else f"h{h:g}.toml")
         path.parent.mkdir(parents=True, exist_ok=True)
         if not path.exists() or path.read_text() != body:
             path.write_text(body)
@@ -401,8 +412,9 @@ def dent(point: str, sizes: list[str]) -> None:
                  "code": str(imp.attrs.get("peenflow_source_hash") or imp.attrs.get("peenflow_code", "")),
                  "command": f"PYTHONPATH=. python benchmarks/bench_reference.py dent {point} {text}",
                  "date": time.strftime("%Y-%m-%d"), "commit": _commit()}
-        _store(f"{point}/dent/{h:g}", entry)
-        print(f"{point} dent at {h:g} um: N_f {entry['full_coverage_shots']:.2f}, N_c {entry['coverage_shots']:.0f}, "
+        name = f"{h:g}c{float(core):g}" if core else f"{h:g}"
+        _store(f"{point}/dent/{name}", entry)
+        print(f"{point} dent at {name} um: N_f {entry['full_coverage_shots']:.2f}, N_c {entry['coverage_shots']:.0f}, "
               f"semi-axes {entry['semi_axis_along_um']:.1f} x {entry['semi_axis_across_um']:.1f} um, "
               f"CPU {entry['cpu_s']:.0f} s", flush=True)
 

@@ -118,8 +118,11 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
     if dent is not None:
         impact = get("target_impact")
         # the dent's own element size (fidelity.dent_element_size_um may make it finer than the REV's)
-        made = ("" if impact is None else
-                f", single impact on {np.diff(impact.x_node_full.values).min() * 1e6:.3g} um elements")
+        made = ""
+        if impact is not None:
+            finest = np.diff(impact.x_node_full.values).min() * 1e6
+            made = (f", single impact on {finest:.3g} um elements" if impact.attrs.get("dent_refinement") != "core"
+                    else f", single impact with a core of {finest:.3g} um elements under it")
         rows.append(("target dent", f"{float(dent.dent_semi_axis_along_m) * 1e3:.3f} × "
                      f"{float(dent.dent_semi_axis_across_m) * 1e3:.3f} mm",
                      f"semi-axes along × across, {float(dent.dent_depth_m) * 1e6:.1f} um deep{made}"))

@@ -396,6 +396,9 @@ class StudyParams:
     #: the fidelity of the target's single impact (its dent ellipse, N_f, N_c): the study's, or that at
     #: ``fidelity.dent_element_size_um``
     dent_fidelity: FidelityParams | None = None
+    #: the element size (m) of a core under the target's single impact (``fidelity.dent_refinement = "core"``;
+    #: its block is then at ``dent_fidelity``, the study's), else None
+    dent_core_element_size_m: float | None = None
 
 
 def study_params(study) -> StudyParams:
@@ -436,15 +439,17 @@ def study_params(study) -> StudyParams:
                                             f.intensity_extrapolation_order is None)
         # computed as a study at that element size computes it, so such a study's strip results are shared
         coarse_fidelity = FidelityParams.from_study(f.model_copy(update={"element_size_um": hc}))
-    dent_fidelity = fidelity
+    dent_fidelity, dent_core = fidelity, None
     if (hd := study.fidelity.dent_element_size_um) is not None:
-        # as a study at that element size computes its single impact, so the two share it
-        dent_fidelity = FidelityParams.from_study(study.fidelity.model_copy(update={"element_size_um": hd}))
+        if study.fidelity.dent_refinement == "core":  # the study's block, a core of hd under the impact
+            dent_core = hd * UM
+        else:  # as a study at that element size computes its single impact, so the two share it
+            dent_fidelity = FidelityParams.from_study(study.fidelity.model_copy(update={"element_size_um": hd}))
     return StudyParams(ShotParams.from_study(study.shot), fidelity,
                        DminParams.from_study(study.dmin), strip_material, strip, strip_rev, ladder, sequences,
                        coverage,
                        target_material, target, target_rev, plate, measured, extrapolation, coarse_fidelity,
-                       dent_fidelity)
+                       dent_fidelity, dent_core)
 
 
 def _mm(value: float | None) -> float | None:

@@ -139,9 +139,10 @@ def build_graph(path) -> Graph:
         given = t.velocity_m_s is not None
         vel = g.add(target_velocity, upstream={} if given else {"control": control}, params={"target": p.target})
         # the dent's impact at its own element size (fidelity.dent_element_size_um; the study's by default)
+        core = {} if p.dent_core_element_size_m is None else {"core_element_size_m": p.dent_core_element_size_m}
         imp_t = g.add(single_impact, upstream={"velocity": vel}, stage="target_impact", params={
             **tmat, "fidelity": p.dent_fidelity, "angle_deg": t.angle_deg,
-            "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(t.rev_thickness_m, IMPACT_BLOCK_D * D)})
+            "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(t.rev_thickness_m, IMPACT_BLOCK_D * D), **core})
         dent = g.add(indentation, upstream={"impact": imp_t}, stage="target_indentation")
         if study.fidelity.dent_element_size_um is not None:
             dent_level = fidelity_statement(study.fidelity, element_size_um=study.fidelity.dent_element_size_um,

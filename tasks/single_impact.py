@@ -13,23 +13,51 @@ shot's rebound, and the energy balance of the impact.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import xarray as xr
 
 from peenflow.methods import VOIGT
 
 from . import _kernel as K
+from ._impact_core import ImpactCore, core_for, cored_block
 from ._common import COMPONENT_LONG_NAME, depth, labels, peening_task, scalar, var
 from .params import FidelityParams, MaterialParams, ShotParams
 
 
+#: the fine zone of a single impact's block, as a fraction of its half width
+FINE_HALF_FRACTION = 0.6
+
+
+def impact_core(material: MaterialParams, shot: ShotParams, fidelity: FidelityParams, speed: float,
+                angle_deg: float, half_width_m: float, thickness_m: float, core_element_size_m: float):
+    """The core of ``core_element_size_m`` (m) elements under the impact (:mod:`tasks._impact_core`), or
+    None if it and its grading back to the block's elements do not fit in the block's fine zone."""
+    centre, velocity = shot.aimed(speed, angle_deg)
+    core = core_for(material.to_kernel(), shot.shots(centre, velocity), speed, angle_deg, core_element_size_m)
+    try:
+        cored_block(_block(fidelity, half_width_m, thickness_m, angle_deg), core, fidelity.element_size_m,
+                    fidelity.grading_ratio)
+    except ValueError:
+        return None
+    return core
+
+
+def _block(fidelity: FidelityParams, half_width_m: float, thickness_m: float, angle_deg: float):
+    """The single impact's block: a quarter model for a normal shot, a half model for an oblique one."""
+    return K.impact_block(fidelity, half_width_m, thickness_m, fine_half=FINE_HALF_FRACTION * half_width_m,
+                          symmetric_x=angle_deg == 90.0, symmetric_y=True)
+
+
 def run_single_impact(material: MaterialParams, shot: ShotParams, fidelity: FidelityParams, speed: float,
                       angle_deg: float, half_width_m: float, thickness_m: float, threads: int = 1,
-                      record: bool = True):
-    """(mesh, kernel result) of one shot at ``speed`` (m s-1) on a block ``half_width_m`` x ``thickness_m`` (m)."""
-    normal = angle_deg == 90.0
-    mesh = K.impact_block(fidelity, half_width_m, thickness_m, fine_half=0.6 * half_width_m,
-                          symmetric_x=normal, symmetric_y=True)
+                      record: bool = True, core: ImpactCore | None = None):
+    """(mesh, kernel result) of one shot at ``speed`` (m s-1) on a block ``half_width_m`` x ``thickness_m`` (m);
+    ``core``: a finer core under the impact (:func:`impact_core`)."""
+    mesh = _block(fidelity, half_width_m, thickness_m, angle_deg)
+    if core is not None:
+        mesh = cored_block(mesh, core, fidelity.element_size_m, fidelity.grading_ratio)
     centre, velocity = shot.aimed(speed, angle_deg)
     result = K.run_impacts(fidelity.boundary(mesh, impact_block=True), material.to_kernel(),
                            shot.shots(centre, velocity),
@@ -91,14 +119,31 @@ def impact_dataset(mesh, result, normal: bool) -> xr.Dataset:
 def single_impact(velocity: xr.Dataset | None = None, *, material: MaterialParams, shot: ShotParams,
                   fidelity: FidelityParams,
                   angle_deg: float, velocity_m_s: float | None = None, half_width_m: float,
-                  thickness_m: float, ctx=None) -> xr.Dataset:
-    """One impact; the speed is ``velocity_m_s`` or the upstream ``velocity`` result."""
+                  thickness_m: float, core_element_size_m: float | None = None, ctx=None) -> xr.Dataset:
+    """One impact; the speed is ``velocity_m_s`` or the upstream ``velocity`` result.
+
+    ``core_element_size_m``: elements of that size (m) in a core under the impact only
+    (``fidelity.dent_refinement = "core"``, :mod:`tasks._impact_core`); if the core does not fit in
+    the block's fine zone, the whole fine zone takes that size (attribute ``dent_refinement``)."""
     speed = velocity_m_s if velocity_m_s is not None else scalar(velocity, "velocity_m_s")
+    core, refinement = None, ""
+    if core_element_size_m is not None:
+        core = impact_core(material, shot, fidelity, speed, angle_deg, half_width_m, thickness_m,
+                           core_element_size_m)
+        refinement = "core"
+        if core is None:  # the block refined to the core's size: the dent the "block" refinement gives
+            fidelity = replace(fidelity, element_size_m=core_element_size_m)
+            refinement = "block (the core did not fit in the fine zone)"
     mesh, result = run_single_impact(material, shot, fidelity, speed, angle_deg, half_width_m, thickness_m,
-                                     threads=ctx.threads if ctx else 1)
+                                     threads=ctx.threads if ctx else 1, core=core)
     ds = impact_dataset(mesh, result, angle_deg == 90.0)
     ds.attrs.update({"velocity_m_s": speed, "angle_deg": angle_deg,
                      "n_elements": int(mesh.n_elements),
                      # "" when the active window lies inside the envelope its error was measured for
                      "window_outside_validated": result.window_outside_validated})
+    if refinement:
+        ds.attrs.update({"dent_refinement": refinement, "dent_core_element_size_m": core_element_size_m})
+    if core is not None:
+        ds.attrs.update({"dent_core_half_width_m": core.half_width_m, "dent_core_depth_m": core.depth_m,
+                         "dent_core_contact_radius_m": core.contact_radius_m})
     return ds

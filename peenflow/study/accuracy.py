@@ -35,7 +35,8 @@ with the headline numbers and tabled in README.md.
 
 from __future__ import annotations
 
-__all__ = ["SINGLE_IMPACT", "SINGLE_IMPACT_SOURCE", "STUDY_LEVEL", "STUDY_LEVEL_EXTRAPOLATED", "N_F_LIMIT", "DENT_LEVEL_NF", "TARGET_PROFILE", "TARGET_PROFILE_PEAK_MPA",
+__all__ = ["SINGLE_IMPACT", "SINGLE_IMPACT_SOURCE", "STUDY_LEVEL", "STUDY_LEVEL_EXTRAPOLATED", "N_F_LIMIT", "DENT_LEVEL_NF", "DENT_CORE_LEVEL_NF",
+           "SINGLE_IMPACT_CORE", "TARGET_PROFILE", "TARGET_PROFILE_PEAK_MPA",
            "INTENSITY_ORDER", "STUDY_LEVEL_SOURCE", "single_impact_error", "study_level_error", "statement"]
 
 #: element size um -> worst error over the four cases and four aims: (dent %, sigma_xx peak %,
@@ -46,6 +47,13 @@ SINGLE_IMPACT: dict[float, tuple[float, float, float, float, float]] = {
     40.0: (9.4, 30.4, 9.5, 0.044, 15.0),
     25.0: (4.7, 17.1, 4.8, 0.021, 7.7),
     12.5: (1.3, 5.4, 0.6, 0.006, 2.8),
+}
+#: (block element size um, core element size um) -> as SINGLE_IMPACT, for the block with the core a
+#: study puts under the impact (``fidelity.dent_refinement = "core"``; node-aimed, four cases),
+#: BENCHMARKS.md section 4c, "A finer core under the shot"
+SINGLE_IMPACT_CORE: dict[tuple[float, float], tuple[float, float, float, float, float]] = {
+    (25.0, 12.5): (1.2, 5.6, 0.7, 0.006, 3.0),
+    (25.0, 6.25): (0.4, 0.2, 0.3, 0.001, 0.4),
 }
 SINGLE_IMPACT_SOURCE = "BENCHMARKS.md section 4c"
 #: element size um -> (smallest, largest) intensity error in % over the four strip points, and the
@@ -64,6 +72,11 @@ N_F_LIMIT = 227.9
 #: element size um of the target's single impact -> the error of its N_f in % against N_F_LIMIT
 DENT_LEVEL_NF: dict[float, float] = {
     60.0: -51.6, 40.0: -35.4, 25.0: -24.1, 16.0: -16.0, 12.5: -13.8, 10.0: -10.2, 8.0: -8.1, 6.25: -6.3,
+}
+#: (block element size um, core element size um) -> as DENT_LEVEL_NF, the dent from the block with a
+#: core of that size under the impact (``fidelity.dent_refinement = "core"``), BENCHMARKS.md section 9
+DENT_CORE_LEVEL_NF: dict[tuple[float, float], float] = {
+    (25.0, 12.5): -13.9, (25.0, 10.0): -10.1, (25.0, 8.0): -8.1, (25.0, 6.25): -6.2, (40.0, 6.25): -6.2,
 }
 #: (REV element size um, dent element size um) -> the target's profile on its first sequence (1.2 mm
 #: periodic REV) against the converged profile (the 0.9 mm REV refined 25 / 16 / 12.5 um at a fixed
@@ -107,31 +120,52 @@ def single_impact_error(element_size_um: float) -> str | None:
     return None
 
 
-def target_error(element_size_um: float, dent_um: float | None = None) -> str:
+def single_impact_core_error(block_um: float, core_um: float) -> str | None:
+    """As :func:`single_impact_error`, for a core of ``core_um`` elements in a ``block_um`` block."""
+    for (hb, hc), (dent, peak, zero, rest, rms) in SINGLE_IMPACT_CORE.items():
+        if _same(hb, block_um) and _same(hc, core_um):
+            return (f"single impact with a core of {hc:g} um elements in a {hb:g} um block (worst of 4 cases, "
+                    f"{SINGLE_IMPACT_SOURCE}): dent depth <= {dent:g} %, sigma_xx peak <= {peak:g} %, zero "
+                    f"crossing <= {zero:g} %, restitution <= {rest:g}, sigma_xx(z) RMS <= {rms:g} % of the peak")
+    return None
+
+
+def target_error(element_size_um: float, dent_um: float | None = None, dent_core_in_um: float | None = None) -> str:
     """The section 5 target's measured N_f and profile error for a REV at ``element_size_um`` and a
-    dent at ``dent_um`` (default: the REV's size), as one clause."""
+    dent at ``dent_um`` (default: the REV's size) -- with ``dent_core_in_um``, from a core of
+    ``dent_um`` elements in a block of that size -- as one clause."""
     dent = element_size_um if dent_um is None else dent_um
     parts = []
-    for h, nf in DENT_LEVEL_NF.items():
-        if _same(h, dent):
-            parts.append(f"N_f {nf:+.1f} % (dent at {h:g} um, against the first-order limit {N_F_LIMIT:g} of the "
-                         "dent levels)")
+    if dent_core_in_um is None:
+        for h, nf in DENT_LEVEL_NF.items():
+            if _same(h, dent):
+                parts.append(f"N_f {nf:+.1f} % (dent at {h:g} um, against the first-order limit {N_F_LIMIT:g} of "
+                             "the dent levels)")
+    else:
+        for (hb, hc), nf in DENT_CORE_LEVEL_NF.items():
+            if _same(hb, dent_core_in_um) and _same(hc, dent):
+                parts.append(f"N_f {nf:+.1f} % (dent from a core of {hc:g} um elements in a {hb:g} um block, "
+                             f"against the first-order limit {N_F_LIMIT:g} of the dent levels)")
+    # the profile follows N_c: a core's dent gives the N_c of the dent refined throughout (section 9)
     for (h, hd), (pk, cd, rms) in TARGET_PROFILE.items():
         if _same(h, element_size_um) and _same(hd, dent):
             parts.append(f"against the converged profile (peak {TARGET_PROFILE_PEAK_MPA:g} MPa) sigma_xx peak "
-                         f"{pk:+.1f} %, compressive depth {cd:+.1f} %, profile RMS {rms:g} % of the peak")
+                         f"{pk:+.1f} %, compressive depth {cd:+.1f} %, profile RMS {rms:g} % of the peak"
+                         + (f" (measured with the dent refined throughout, {dent:g} um)" if dent_core_in_um else ""))
     if not parts:
         return "; N_f and the profile not measured at these element sizes"
     return "; the section 5 target (Al 7075-T73, 65 deg, 30 m/s): " + ", ".join(parts)
 
 
 def study_level_error(element_size_um: float, extrapolated_from_um: float | None = None,
-                      order: float = INTENSITY_ORDER, dent_um: float | None = None) -> str:
+                      order: float = INTENSITY_ORDER, dent_um: float | None = None,
+                      dent_core_in_um: float | None = None) -> str:
     """The measured study-level error at this element size as one sentence; with
     ``extrapolated_from_um``, that of the intensities extrapolated from that coarser level
-    and this one with ``order``; ``dent_um``: the element size of the target's dent, if not this one."""
+    and this one with ``order``; ``dent_um``: the element size of the target's dent, if not this one
+    (``dent_core_in_um``: of a core under the impact in a block of that size, :func:`target_error`)."""
     refs = "4 strip points and the 67.5 deg control curve against references from 40 / 25 / 16 um"
-    tail = target_error(element_size_um, dent_um)
+    tail = target_error(element_size_um, dent_um, dent_core_in_um)
     if extrapolated_from_um is not None:
         how = (f"Almen intensities extrapolated from {extrapolated_from_um:g} and {element_size_um:g} um "
                f"(paired, order {order:g})")
@@ -164,18 +198,29 @@ def statement(fidelity, element_size_um: float | None = None, extrapolated: bool
     order = fidelity.intensity_order
     # a result of the REV level states the error of the study's dent; the dent's own results its level's
     dent = fidelity.dent_element_size_um if element_size_um is None else None
-    single = single_impact_error(h) or (
+    core = fidelity.dent_element_size_um is not None and fidelity.dent_refinement == "core"
+    dent_level_core = level == "dent" and element_size_um is not None and core
+    single = (single_impact_core_error(fidelity.element_size_um, h) if dent_level_core else
+              single_impact_error(h)) or (
         f"single impact not measured at {h:g} um (measured: "
-        + ", ".join(f"{k:g}" for k in SINGLE_IMPACT) + f" um, {SINGLE_IMPACT_SOURCE})")
-    made = f"{fidelity.describe()}: {h:g} um elements, lateral faces {fidelity.lateral_boundary}"
+        + ", ".join(f"{k:g}" for k in SINGLE_IMPACT) + " um; cores: "
+        + ", ".join(f"{c:g} in {b:g}" for b, c in SINGLE_IMPACT_CORE) + f" um, {SINGLE_IMPACT_SOURCE})")
+    # with a core, the dent (N_f) of the study's REV results, and of the dent's own, is the core's
+    dent_core_in = fidelity.element_size_um if core else None
+    if dent_level_core:
+        made = (f"{fidelity.describe()}: {fidelity.element_size_um:g} um elements, a core of {h:g} um elements "
+                f"under the impact, lateral faces {fidelity.lateral_boundary}")
+    else:
+        made = f"{fidelity.describe()}: {h:g} um elements, lateral faces {fidelity.lateral_boundary}"
     if coarse is not None:
         made += f"; Almen intensities extrapolated to zero element size from {coarse:g} and {h:g} um (order {order:g})"
     elif element_size_um is not None:
         made += (" (the target's single impact, whose dent ellipse gives N_f and N_c)" if level == "dent"
                  else " (the coarse level of the intensity extrapolation)")
     if element_size_um is None and fidelity.dent_element_size_um is not None:
-        made += f"; the target's dent ellipse (N_f, N_c) from a single impact at {fidelity.dent_element_size_um:g} um"
+        made += (f"; the target's dent ellipse (N_f, N_c) from a single impact at {fidelity.dent_element_size_um:g} um"
+                 + (f" (a core under the impact in {fidelity.element_size_um:g} um elements)" if core else ""))
     return {
         "peenflow_fidelity": made,
-        "peenflow_fidelity_error": f"{single}; {study_level_error(h, coarse, order, dent)}",
+        "peenflow_fidelity_error": f"{single}; {study_level_error(h, coarse, order, dent, dent_core_in)}",
     }

@@ -127,6 +127,11 @@ class Fidelity(ShotScaled):
         None, description="a finer element size in um for the target's single impact, whose dent ellipse gives the "
                           "coverage curve, N_f and N_c (the pile-up crest that bounds the dent converges at first "
                           "order in the element size); the REV runs stay at element_size_um")
+    dent_refinement: Literal["block", "core"] = Field(
+        "block", description='where dent_element_size_um applies: "block" (the single impact\'s whole fine zone) '
+                             'or "core" (a core under the impact, 1.5 estimated contact radii wide and one deep, '
+                             'graded back to element_size_um; the same N_f within 0.1 % at 0.37 x the CPU at 6.25 um, '
+                             'BENCHMARKS.md section 9)')
 
     @model_validator(mode="after")
     def _one_depth(self) -> "Fidelity":
@@ -159,6 +164,19 @@ class Fidelity(ShotScaled):
                 f"expected an element size no coarser than element_size_um = {h:g} um (the dent is refined to make "
                 "N_f converge; a coarser dent would only add error)")
         return hd
+
+    @field_validator("dent_refinement")
+    @classmethod
+    def _core_needs_finer_dent(cls, where, info):
+        hd, h = info.data.get("dent_element_size_um"), info.data.get("element_size_um")
+        if where == "core" and hd is None:
+            raise ValueError('"core" refines a core under the target\'s single impact to dent_element_size_um, '
+                             'which is not given: set it (finer than element_size_um), or delete the key')
+        if where == "core" and h is not None and not hd < h:
+            raise ValueError(f'"core" needs dent_element_size_um = {hd:g} um finer than element_size_um = {h:g} um '
+                             '(a core of the block\'s own size is the block): set a smaller dent_element_size_um, '
+                             'or delete the key')
+        return where
 
     @field_validator("intensity_extrapolation_order")
     @classmethod

@@ -12,22 +12,32 @@ from peenflow.study.accuracy import SINGLE_IMPACT, STUDY_LEVEL, statement
 REPO = Path(__file__).resolve().parents[2]
 
 
+def _benchmarks_rows(marker: str, first_column: str) -> list[dict]:
+    """The rows ({column: cell}) of the first BENCHMARKS.md table after ``marker`` whose header
+    starts with ``first_column``."""
+    text = (REPO / "BENCHMARKS.md").read_text()
+    lines = text[text.index(marker):].splitlines()
+    header = next(ln for ln in lines if ln.startswith(f"| {first_column} |"))
+    cols = [c.strip() for c in header.strip("|").split("|")]
+    rows = []
+    for ln in lines[lines.index(header) + 2:]:
+        if not ln.startswith("|"):
+            break
+        rows.append(dict(zip(cols, (c.strip() for c in ln.strip("|").split("|")))))
+    return rows
+
+
+def _errors(cells: dict) -> tuple[float, ...]:
+    """(dent %, sigma_xx peak %, zero crossing %, restitution, profile RMS %) of a table row."""
+    return tuple(float(re.sub(r"[ %]", "", cells[k]))
+                 for k in ("dent", "σxx peak", "zero crossing", "restitution", "profile RMS"))
+
+
 def _benchmarks_summary() -> dict:
     """The 'Worst |error| over the four cases and the four aims' table of BENCHMARKS.md 4c (the
     physical element, the shot aimed on a node and 1/4, 1/2, 3/4 of an element off it)."""
-    text = (REPO / "BENCHMARKS.md").read_text()
-    table = text[text.index("Worst |error| over the four cases and the four aims per element size"):]
-    header = next(ln for ln in table.splitlines() if ln.startswith("| h um |"))
-    cols = [c.strip() for c in header.strip("|").split("|")]
-    out = {}
-    for ln in table.splitlines()[table.splitlines().index(header) + 2:]:
-        if not ln.startswith("|"):
-            break
-        cells = dict(zip(cols, (c.strip() for c in ln.strip("|").split("|"))))
-        num = lambda k: float(re.sub(r"[ %]", "", cells[k]))  # noqa: E731
-        out[float(cells["h um"])] = (num("dent"), num("σxx peak"), num("zero crossing"), num("restitution"),
-                                     num("profile RMS"))
-    return out
+    rows = _benchmarks_rows("Worst |error| over the four cases and the four aims per element size", "h um")
+    return {float(cells["h um"]): _errors(cells) for cells in rows}
 
 
 def test_the_numbers_are_the_measured_ones():
@@ -164,13 +174,15 @@ def test_the_target_numbers_are_the_measured_ones():
     sys.path.insert(0, str(REPO / "benchmarks"))
     from bench_presets import n_f_reference, target_errors, target_reference
 
-    from peenflow.study.accuracy import DENT_LEVEL_NF, N_F_LIMIT, TARGET_PROFILE, TARGET_PROFILE_PEAK_MPA
+    from peenflow.study.accuracy import (DENT_CORE_LEVEL_NF, DENT_LEVEL_NF, N_F_LIMIT, TARGET_PROFILE,
+                                         TARGET_PROFILE_PEAK_MPA)
 
     assert round(target_reference()["peak_MPa"], 1) == TARGET_PROFILE_PEAK_MPA  # the converged peak stated
 
     nref = n_f_reference()
     assert round(nref["n0"], 1) == N_F_LIMIT
     assert {h: round(e, 1) for h, e in nref["error_pct"].items()} == DENT_LEVEL_NF
+    assert {k: round(e, 1) for k, e in nref["core_error_pct"].items()} == DENT_CORE_LEVEL_NF
     measured = target_errors()
     assert set(measured) == set(TARGET_PROFILE)
     for key, want in TARGET_PROFILE.items():
@@ -186,3 +198,42 @@ def test_the_target_numbers_are_the_measured_ones():
     s = statement(fid)["peenflow_fidelity_error"]
     pk, cd, rms = TARGET_PROFILE[(25.0, 6.25)]
     assert f"N_f {DENT_LEVEL_NF[6.25]:+.1f} % (dent at 6.25 um" in s and f"sigma_xx peak {pk:+.1f} %" in s, s
+
+
+def test_a_core_study_states_the_core_s_error(tmp_path):
+    """With fidelity.dent_refinement = "core" the REV results state the N_f error measured for a core
+    of the dent's size in the study's block, and the dent's own results the single-impact error of
+    that core (BENCHMARKS.md 4c and section 9), not those of the block refined throughout."""
+    from peenflow.study.accuracy import DENT_CORE_LEVEL_NF, DENT_LEVEL_NF, SINGLE_IMPACT_CORE, TARGET_PROFILE
+
+    (tmp_path / "paper_fast_25um.toml").write_text((REPO / "studies" / "paper_fast_25um.toml").read_text())
+    (tmp_path / "paper_fast.toml").write_text((REPO / "studies" / "paper_fast.toml").read_text())
+    p = tmp_path / "core.toml"
+    p.write_text((REPO / "studies" / "paper_fast_extrapolated.toml").read_text().replace(
+        "dent_element_size_um = 6.25", 'dent_element_size_um = 6.25\ndent_refinement = "core"'))
+    fid = load_study(p).fidelity
+    rev = statement(fid)
+    assert "(a core under the impact in 25 um elements)" in rev["peenflow_fidelity"], rev
+    err = rev["peenflow_fidelity_error"]
+    nf = DENT_CORE_LEVEL_NF[(25.0, 6.25)]
+    assert f"N_f {nf:+.1f} % (dent from a core of 6.25 um elements in a 25 um block" in err, err
+    assert f"N_f {DENT_LEVEL_NF[6.25]:+.1f} % (dent at 6.25 um" not in err, err
+    pk = TARGET_PROFILE[(25.0, 6.25)][0]
+    assert f"sigma_xx peak {pk:+.1f} %" in err and "measured with the dent refined throughout" in err, err
+    dent = statement(fid, element_size_um=6.25, level="dent")
+    assert "25 um elements, a core of 6.25 um elements under the impact" in dent["peenflow_fidelity"], dent
+    d, peak, *_ = SINGLE_IMPACT_CORE[(25.0, 6.25)]
+    assert (f"single impact with a core of 6.25 um elements in a 25 um block (worst of 4 cases, BENCHMARKS.md "
+            f"section 4c): dent depth <= {d:g} %, sigma_xx peak <= {peak:g} %") in dent["peenflow_fidelity_error"]
+
+
+def test_the_core_numbers_are_the_measured_ones():
+    """SINGLE_IMPACT_CORE equals the study-core rows of BENCHMARKS.md 4c ("The cores a study makes")."""
+    from peenflow.study.accuracy import SINGLE_IMPACT_CORE
+
+    found = {}
+    for cells in _benchmarks_rows("**The cores a study makes", "mesh"):
+        m = re.fullmatch(r"([\d.]+) µm, study core ([\d.]+) µm", cells["mesh"])
+        if m:
+            found[(float(m[1]), float(m[2]))] = _errors(cells)
+    assert found == SINGLE_IMPACT_CORE

@@ -96,6 +96,8 @@ CHANGES = {
                                                 "fidelity.extrapolate_intensity_from_um": 40.0},
                                                {"fidelity.intensity_extrapolation_order": 2.0}),
     "Fidelity.dent_element_size_um": ({"fidelity.element_size_um": 25.0}, {"fidelity.dent_element_size_um": 12.5}),
+    "Fidelity.dent_refinement": ({"fidelity.element_size_um": 25.0, "fidelity.dent_element_size_um": 12.5},
+                                 {"fidelity.dent_refinement": "core"}),
     "Seeds.base": ({}, {"seeds.base": 8}),
     "Material.youngs_modulus_GPa": ({}, {f"{MAT}.youngs_modulus_GPa": 72.0}),
     "Material.poisson_ratio": ({}, {f"{MAT}.poisson_ratio": 0.32}),

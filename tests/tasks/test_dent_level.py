@@ -104,3 +104,32 @@ def test_each_result_says_which_element_size_made_it(run):
         assert "100 um elements" in made and "dent ellipse (N_f, N_c) from a single impact at 80 um" in made, made
     dent_row = next(ln for ln in out.splitlines() if ln.strip().startswith("target dent"))
     assert "single impact on 80 um elements" in dent_row, dent_row
+
+
+def test_a_core_under_the_impact_through_peenflow_run(run):
+    """``dent_refinement = "core"``: the single impact keeps the study's 100 um block and refines a
+    core under the impact to 80 um; its dent, N_f and N_c differ from the 100 um block's, and every
+    result says how the dent was made."""
+    study, _ = run
+    text = study.read_text().replace("dent_element_size_um = 80.0\n",
+                                     'dent_element_size_um = 80.0\ndent_refinement = "core"\n')
+    cored = study.with_name("micro_core.toml")
+    cored.write_text(text)
+    out = _run(cored, "--until", "coverage_curve")
+    impact = _open(cored, "target_impact")
+    assert impact.attrs["dent_refinement"] == "core"
+    x = impact.x_node_full.values
+    d = np.diff(x)
+    centre = np.abs(0.5 * (x[1:] + x[:-1])) < impact.attrs["dent_core_half_width_m"]
+    assert np.allclose(d[centre], H_DENT, rtol=1e-9)  # the core: 80 um elements
+    assert np.any(np.isclose(d, H_REV, rtol=1e-9))  # the fine zone beyond it: the block's 100 um
+    plain = _variant(study, "micro_100.toml", None, dent=False)
+    _run(plain, "--until", "coverage_curve")
+    assert float(_open(cored, "target_indentation").dent_semi_axis_along_m) != \
+        float(_open(plain, "target_indentation").dent_semi_axis_along_m)
+    made = impact.attrs["peenflow_fidelity"]
+    assert "100 um elements, a core of 80 um elements under the impact" in made, made
+    made = _open(cored, "coverage_curve").attrs["peenflow_fidelity"]
+    assert "from a single impact at 80 um (a core under the impact in 100 um elements)" in made, made
+    dent_row = next(ln for ln in out.splitlines() if ln.strip().startswith("target dent"))
+    assert "single impact with a core of 80 um elements under it" in dent_row, dent_row
