@@ -627,7 +627,7 @@ def study_cores(h_um: float = 25.0, sizes=STUDY_CORES) -> None:
         for hc in sizes:
             if study_core_key(case, h_um, hc) not in stored:
                 out = run(case, "physical", h_um, study_core_um=hc)
-                out["command"] = f"PYTHONPATH=. python benchmarks/bench_hourglass.py study-cores"
+                out["command"] = "PYTHONPATH=. python benchmarks/bench_hourglass.py study-cores"
                 _store(study_core_key(case, h_um, hc), out)
     data = _load()
 
