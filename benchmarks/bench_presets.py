@@ -41,7 +41,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
-from bench_reference import OUT, extrapolate, richardson  # noqa: E402
+from bench_reference import OUT, extrapolate, parse_dent_level, richardson  # noqa: E402
 
 STRIP_POINTS = ("strip_90_55", "strip_67_25", "strip_67_30", "strip_67_35")
 CURVE = {25.0: "strip_67_25", 30.0: "strip_67_30", 35.0: "strip_67_35"}  # the 67.5 deg control curve
@@ -206,23 +206,21 @@ def _two_level(strips: dict, ref_i: dict, ref_v: float, coarse: float = 40.0, fi
 DENT_FIT_COARSEST_UM = 16.0
 
 
+def _dent_entries(data: dict) -> list[tuple[float, float | None, dict]]:
+    """(block element size um, core element size um or None, entry) of each ``bench_reference.py dent`` level."""
+    return [(*parse_dent_level(k.split("/")[2]), v) for k, v in data.items() if k.startswith(TARGET + "/dent/")]
+
+
 def dent_levels(data: dict) -> dict[float, dict]:
     """{element size um of the target's single impact, refined throughout: its entry}
     (``bench_reference.py dent``)."""
-    return {float(k.split("/")[2]): v for k, v in data.items()
-            if k.startswith(TARGET + "/dent/") and "c" not in k.split("/")[2]}
+    return {h: v for h, core, v in _dent_entries(data) if core is None}
 
 
 def dent_core_levels(data: dict) -> dict[tuple[float, float], dict]:
     """{(block element size um, core element size um): its entry}: the target's single impact with a
     finer core under it (``bench_reference.py dent HcC``, ``fidelity.dent_refinement = "core"``)."""
-    out = {}
-    for k, v in data.items():
-        name = k.split("/")[2] if k.startswith(TARGET + "/dent/") else ""
-        if "c" in name:
-            block, _, core = name.partition("c")
-            out[(float(block), float(core))] = v
-    return out
+    return {(h, core): v for h, core, v in _dent_entries(data) if core is not None}
 
 
 def n_f_reference(data: dict | None = None) -> dict:

@@ -195,6 +195,17 @@ def _is_target(point: str) -> bool:
     return "[target]" in sections and "[almen]" not in sections
 
 
+def parse_dent_level(name: str) -> tuple[float, float | None]:
+    """(block element size um, core element size um or None) of a ``dent`` level: ``25`` or ``25c6.25``."""
+    block, _, core = name.partition("c")
+    return float(block), (float(core) if core else None)
+
+
+def dent_level_name(h_um: float, core_um: float | None) -> str:
+    """The name :func:`parse_dent_level` reads."""
+    return f"{h_um:g}" if core_um is None else f"{h_um:g}c{core_um:g}"
+
+
 def _commit() -> str:
     return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                           capture_output=True, text=True).stdout.strip()
@@ -335,8 +346,8 @@ def _target_table(point: str, data: dict) -> None:
                     if k.startswith(point + "/") and k.count("/") == 1),
                    key=lambda t: (-(t[0][1] or 0.0), -t[0][0], -(t[0][3] or t[0][0])))
     def finest(name: str) -> float:  # "25c6.25": the 25 um block with a 6.25 um core
-        block, _, core = name.partition("c")
-        return float(core or block)
+        block, core = parse_dent_level(name)
+        return block if core is None else core
 
     dents = sorted(((k.split("/")[2], v) for k, v in data.items() if k.startswith(point + "/dent/")),
                    key=lambda t: (-finest(t[0]), "c" in t[0]))
@@ -379,17 +390,17 @@ def dent(point: str, sizes: list[str]) -> None:
     The REV thickness of each level study is the part's (what ``"auto"`` gives the single impact's
     block), so no REV-depth check runs; the coverage curve uses the same seeds at every size."""
     for text in sizes:
-        block, _, core = text.partition("c")
-        h = float(block)
-        study = _level_study(point, h, dent_um=float(core) if core else None)
+        h, core = parse_dent_level(text)
+        name = dent_level_name(h, core)
+        study = _level_study(point, h, dent_um=core)
         body = study.read_text()
-        if core:
-            body = body.replace(f"dent_element_size_um = {float(core)!r}",
-                                f'dent_element_size_um = {float(core)!r}\ndent_refinement = "core"')
+        if core is not None:
+            body = body.replace(f"dent_element_size_um = {core!r}",
+                                f'dent_element_size_um = {core!r}\ndent_refinement = "core"')
         part = next(ln.split("=")[1].split("#")[0].strip() for ln in body.splitlines()
                     if ln.strip().startswith("thickness_mm"))
         body = body.replace('rev_thickness_mm = "auto"', f"rev_thickness_mm = {part}")
-        path = study.parent / "dent" / (f"h{h:g}c{float(core):g}.toml" if core else f"h{h:g}.toml")
+        path = study.parent / "dent" / f"h{name}.toml"
         path.parent.mkdir(parents=True, exist_ok=True)
         if not path.exists() or path.read_text() != body:
             path.write_text(body)
@@ -412,7 +423,6 @@ def dent(point: str, sizes: list[str]) -> None:
                  "code": str(imp.attrs.get("peenflow_source_hash") or imp.attrs.get("peenflow_code", "")),
                  "command": f"PYTHONPATH=. python benchmarks/bench_reference.py dent {point} {text}",
                  "date": time.strftime("%Y-%m-%d"), "commit": _commit()}
-        name = f"{h:g}c{float(core):g}" if core else f"{h:g}"
         _store(f"{point}/dent/{name}", entry)
         print(f"{point} dent at {name} um: N_f {entry['full_coverage_shots']:.2f}, N_c {entry['coverage_shots']:.0f}, "
               f"semi-axes {entry['semi_axis_along_um']:.1f} x {entry['semi_axis_across_um']:.1f} um, "

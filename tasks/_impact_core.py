@@ -51,9 +51,8 @@ class ImpactCore:
 
 def fine_zone_end(axis: np.ndarray, h: float) -> float:
     """End (m) of ``axis``'s fine zone: its leading run of elements ``h`` m long (``axis`` on [0, ...])."""
-    d = np.diff(axis)
-    n = int(np.argmax(np.abs(d - h) > 1e-9 * h)) if np.any(np.abs(d - h) > 1e-9 * h) else d.size
-    return float(axis[n])
+    other = np.flatnonzero(np.abs(np.diff(axis) - h) > 1e-9 * h)
+    return float(axis[other[0]] if other.size else axis[-1])
 
 
 def _transition(h_core: float, h: float, n: int) -> np.ndarray:
@@ -93,10 +92,13 @@ def cored_axis(axis: np.ndarray, h: float, h_core: float, core_extent: float, ra
         q = (h / h_core) ** (1.0 / (n + 1))
         fits = []
         for m in (n_core, n_core + 1):  # stretch the transition by the remainder, or shrink it for one more
-            stretch = 1.0 + (rest - m * h_core) / grow.sum() if n else (1.0 if abs(rest - m * h_core) < 1e-9 * h
-                                                                         else math.inf)
-            if m * h_core >= core_extent * (1 - 1e-9) and stretch > 0 and \
-                    q * max(stretch, 1.0 / stretch) <= ratio * (1 + 1e-12):
+            left = rest - m * h_core  # what the transition takes up beyond its geometric length
+            if n:
+                stretch = 1.0 + left / grow.sum()
+            else:  # no transition elements: only an exact fit
+                stretch = 1.0 if abs(left) < 1e-9 * h else math.inf
+            within = stretch > 0 and q * max(stretch, 1.0 / stretch) <= ratio * (1 + 1e-12)
+            if m * h_core >= core_extent * (1 - 1e-9) and within:
                 fits.append((abs(math.log(stretch)), m, stretch))
         if fits:
             _, n_core, stretch = min(fits)

@@ -110,23 +110,27 @@ def _same(a: float, b: float) -> bool:
     return abs(a - b) <= 1e-9 * max(abs(a), abs(b))
 
 
+def _single_impact_sentence(what: str, errors: tuple[float, float, float, float, float]) -> str:
+    """``what`` (the mesh and what the worst was taken over) followed by its measured errors."""
+    dent, peak, zero, rest, rms = errors
+    return (f"single impact {what}, {SINGLE_IMPACT_SOURCE}): dent depth <= {dent:g} %, sigma_xx peak <= {peak:g} %, "
+            f"zero crossing <= {zero:g} %, restitution <= {rest:g}, sigma_xx(z) RMS <= {rms:g} % of the peak")
+
+
 def single_impact_error(element_size_um: float) -> str | None:
     """The measured single-impact error at this element size as one sentence, or None if not measured."""
-    for h, (dent, peak, zero, rest, rms) in SINGLE_IMPACT.items():
+    for h, errors in SINGLE_IMPACT.items():
         if _same(h, element_size_um):
-            return (f"single impact at {h:g} um (worst of 4 cases x 4 aims, {SINGLE_IMPACT_SOURCE}): dent depth "
-                    f"<= {dent:g} %, sigma_xx peak <= {peak:g} %, zero crossing <= {zero:g} %, "
-                    f"restitution <= {rest:g}, sigma_xx(z) RMS <= {rms:g} % of the peak")
+            return _single_impact_sentence(f"at {h:g} um (worst of 4 cases x 4 aims", errors)
     return None
 
 
 def single_impact_core_error(block_um: float, core_um: float) -> str | None:
     """As :func:`single_impact_error`, for a core of ``core_um`` elements in a ``block_um`` block."""
-    for (hb, hc), (dent, peak, zero, rest, rms) in SINGLE_IMPACT_CORE.items():
+    for (hb, hc), errors in SINGLE_IMPACT_CORE.items():
         if _same(hb, block_um) and _same(hc, core_um):
-            return (f"single impact with a core of {hc:g} um elements in a {hb:g} um block (worst of 4 cases, "
-                    f"{SINGLE_IMPACT_SOURCE}): dent depth <= {dent:g} %, sigma_xx peak <= {peak:g} %, zero "
-                    f"crossing <= {zero:g} %, restitution <= {rest:g}, sigma_xx(z) RMS <= {rms:g} % of the peak")
+            return _single_impact_sentence(f"with a core of {hc:g} um elements in a {hb:g} um block (worst of 4 cases",
+                                           errors)
     return None
 
 
