@@ -71,9 +71,16 @@ def format_path(loc: Iterable[Any]) -> str:
 
 
 def format_value(value: Any, limit: int = 80) -> str:
-    """A value as the user wrote it in TOML (lists, not tuples; true/false)."""
+    """A value as the user wrote it in TOML (lists, not tuples; true/false), at most ``limit``
+    characters. A long string keeps its end as well as its start: a file path's name is at its
+    end (``"/long/.../nope.csv"``)."""
     text = _toml_repr(value)
-    return text if len(text) <= limit else text[: limit - 3] + "..."
+    if len(text) <= limit:
+        return text
+    if isinstance(value, str):
+        head = (limit - 3) // 3
+        return text[:head] + "..." + text[len(text) - (limit - 3 - head):]
+    return text[: limit - 3] + "..."
 
 
 def _toml_repr(value: Any) -> str:

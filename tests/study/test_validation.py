@@ -265,3 +265,13 @@ def test_measured_profile_checked(write_study, tmp_path):
 
 def test_periodic_lateral_boundary_is_valid(write_study):
     assert validate_study(write_study({"fidelity.lateral_boundary": "periodic"})) == []
+
+
+def test_a_long_missing_path_keeps_its_file_name_in_the_message(write_study, tmp_path):
+    # a study deep in a folder tree: the message shortens the path in its middle, never its name
+    deep = tmp_path / ("a_long_folder_name_" * 6) / "profiles" / "shot_peened_part_measured.csv"
+    problems = validate_study(write_study({"target.measured_profile_csv": str(deep)}))
+    (msg,) = [p for p in problems if p.startswith("target.measured_profile_csv = ")]
+    value = msg.split(": measured profile not found")[0].removeprefix("target.measured_profile_csv = ")
+    assert value.startswith('"/') and value.endswith('shot_peened_part_measured.csv"') and "..." in value
+    assert len(value) <= 80
