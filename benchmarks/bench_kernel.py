@@ -9,6 +9,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_kernel.py window-timing  # (last part of window) their cost, interleaved runs
     PYTHONPATH=. python benchmarks/bench_kernel.py window-seq   # held / viscous-spring in 4- and 80-shot sequences (~25 min)
     PYTHONPATH=. python benchmarks/bench_kernel.py springback   # spring-back cost/error vs the impact (single, REV snapshots)
+    PYTHONPATH=. python benchmarks/bench_kernel.py springback-study  # snapshot vs impact CPU on the REVs studies build
     PYTHONPATH=. python benchmarks/bench_kernel.py window-min   # window minimum size at 1 and 5 m/s vs the full mesh
     PYTHONPATH=. python benchmarks/bench_kernel.py hertz        # Hertz convergence table (quarter model)
     PYTHONPATH=. python benchmarks/bench_kernel.py plastic      # plastic dents at 25/55 m/s, refinement, rate on/off
@@ -657,6 +658,73 @@ def springback(speed=55.0, n_rev=12, snaps=(4, 8, 12)):
     print(f"# loadavg at end {loadavg()}")
 
 
+#: (label, material, angle deg, speed m/s, REV thickness m, preset, element um, REV side mm, lateral faces)
+#: the REVs the shipped studies make (periodic 1.2 mm: paper_fast*.toml, the section-9 references; a 3 d_min
+#: symmetric REV, d_min ~ 0.6 mm: the rev.rule = "dmin" default; the paper's fixed 6D x 6D strip REV)
+STUDY_REVS = (("strip, periodic 1.2 mm", "SAE1070", 90.0, 55.0, 1.29e-3, "standard", 25.0, 1.2, "periodic"),
+              ("strip, periodic 1.2 mm", "SAE1070", 90.0, 55.0, 1.29e-3, "standard", 40.0, 1.2, "periodic"),
+              ("strip, periodic 1.2 mm", "SAE1070", 90.0, 55.0, 1.29e-3, "paper", 25.0, 1.2, "periodic"),
+              ("Al 7075 target, periodic 1.2 mm", "AL7075_T73", 65.0, 30.0, 0.9e-3, "standard", 25.0, 1.2, "periodic"),
+              ("strip, symmetric 1.8 mm (3 d_min)", "SAE1070", 90.0, 55.0, 1.29e-3, "standard", 25.0, 1.8, "symmetric"),
+              ("strip, symmetric 3.48 mm (6D)", "SAE1070", 90.0, 55.0, 1.29e-3, "standard", 25.0, 3.48, "symmetric"),
+              ("strip, symmetric 3.48 mm (6D)", "SAE1070", 90.0, 55.0, 1.29e-3, "paper", 25.0, 3.48, "symmetric"))
+
+
+def springback_study(rungs=(5, 10, 20), seed=1):
+    """Snapshot relaxation against the impacts on the REVs a study builds (issue 13 section 3).
+
+    Each REV of :data:`STUDY_REVS` is made by the study's own code (``tasks._kernel.rev_mesh``,
+    ``FidelityParams.boundary`` / ``options`` with the preset's values, the study's shot stream),
+    S230 at mu = 0.2; ``rungs[-1]`` shots, each impact's process CPU, and a relaxed snapshot at
+    each rung (the first one again, without the one-off multigrid setup). One thread.
+    """
+    import peenflow.testing as PT
+    from peenflow.engine.blas import pin_blas_threads
+    from peenflow.fe.impact import ImpactRun
+    from peenflow.methods.shot_stream import shot_stream
+    from peenflow.study.fidelity import PRESETS
+    from tasks import _kernel as K
+    from tasks.params import FidelityParams, ShotParams
+
+    pin_blas_threads()
+    shot = ShotParams(PT.S230.radius_m, PT.S230.density_kg_m3, 0.2)
+    print(f"# spring-back on study REVs; loadavg {loadavg()}", flush=True)
+    print("| REV | preset, h | elements | impact CPU s (mean, min-max) | snapshot CPU s at " + " / ".join(map(str, rungs))
+          + " shots | first snapshot with the multigrid setup | snapshot / impact |")
+    print("|---|---|---|---|---|---|---|")
+    for label, mat, angle, speed, thick, preset, h_um, side_mm, lateral in STUDY_REVS:
+        p = PRESETS[preset]
+        f = FidelityParams(h_um * 1e-6, p["fine_depth_D"] * PT.S230.diameter_m, p["grading_ratio"],
+                           p["time_step_safety"], p["window_contact_radii"], p["settle_tolerance"],
+                           p["relaxation_tolerance"], lateral)
+        side = side_mm * 1e-3
+        mesh = K.rev_mesh(f, side, thick)
+        stream = shot_stream(rungs[-1], shot.radius_m, side / 2, side / 2, angle, speed, seed)
+        shots = shot.shots(stream.centres, stream.velocities)
+        run = ImpactRun(f.boundary(mesh), Material(**getattr(PT, mat)), f.options(shot))
+        impact_cpu, snap_cpu, first = [], [], None
+        for i in range(rungs[-1]):
+            c0 = time.process_time()
+            run.impact(shots, i)
+            impact_cpu.append(time.process_time() - c0)
+            if i + 1 in rungs:
+                sub = shot.shots(stream.centres[:i + 1], stream.velocities[:i + 1])
+                c0 = time.process_time()
+                run.snapshot(sub)
+                cpu = time.process_time() - c0
+                if first is None:
+                    first = cpu
+                    c0 = time.process_time()
+                    run.snapshot(sub)
+                    cpu = time.process_time() - c0
+                snap_cpu.append(cpu)
+        imp = np.array(impact_cpu[1:])  # the first impact of a process also loads the kernels
+        print(f"| {label} | {preset}, {h_um:g} um | {mesh.n_elements} | {imp.mean():.2f} ({imp.min():.2f}-{imp.max():.2f}) | "
+              + " / ".join(f"{c:.2f}" for c in snap_cpu) + f" | {first:.2f} | "
+              f"{min(snap_cpu) / imp.mean():.2f}-{max(snap_cpu) / imp.mean():.2f} |", flush=True)
+    print(f"# loadavg at end {loadavg()}")
+
+
 def window_minimum(speeds=(1.0, 5.0), h=25e-6):
     """Window minimum size for slow shots: peak force / restitution against the full mesh
     (stability sweep's 1.2 x 1.2 x 0.6 mm box, SAE 1070, normal; not relaxed)."""
@@ -703,4 +771,5 @@ if __name__ == "__main__":
     else:
         {"throughput": throughput, "rev": rev, "hertz": hertz_table, "hertz-layout": hertz_layouts, "plastic": plastic_table,
          "window": window_error, "window-timing": window_timing, "window-size": window_size, "settle": settle_tolerance, "window-seq": window_sequence, "springback": springback,
+         "springback-study": springback_study,
          "window-min": window_minimum}[what]()
