@@ -10,6 +10,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_kernel.py window-seq   # held / viscous-spring in 4- and 80-shot sequences (~25 min)
     PYTHONPATH=. python benchmarks/bench_kernel.py springback   # spring-back cost/error vs the impact (single, REV snapshots)
     PYTHONPATH=. python benchmarks/bench_kernel.py springback-study  # snapshot vs impact CPU on the REVs studies build
+    PYTHONPATH=. python benchmarks/bench_kernel.py springback-tolerance  # the 6D REV's snapshots by relaxation tolerance
     PYTHONPATH=. python benchmarks/bench_kernel.py window-min   # window minimum size at 1 and 5 m/s vs the full mesh
     PYTHONPATH=. python benchmarks/bench_kernel.py hertz        # Hertz convergence table (quarter model)
     PYTHONPATH=. python benchmarks/bench_kernel.py plastic      # plastic dents at 25/55 m/s, refinement, rate on/off
@@ -725,6 +726,61 @@ def springback_study(rungs=(5, 10, 20), seed=1):
     print(f"# loadavg at end {loadavg()}")
 
 
+def springback_tolerance(tolerances=(1e-8, 1e-7, 1e-6, 1e-5), rungs=(5, 10, 20), seed=1):
+    """The paper's fixed 6D x 6D strip REV (``standard`` preset at 25 um, symmetric faces, 1 D fine
+    zone): each snapshot relaxed at each ``fidelity.relaxation_tolerance`` of ``tolerances`` and at a
+    strict one (1e-13); CPU against the mean impact, error against the strict state (sigma_xx
+    profile over the central 2D x 2D measuring region, max |d| / max |sigma|; largest |d sigma| of any
+    element component). One thread."""
+    import dataclasses
+
+    import peenflow.testing as PT
+    from peenflow.engine.blas import pin_blas_threads
+    from peenflow.fe.impact import ImpactRun, reference_scales
+    from peenflow.fe.relaxation import relax
+    from peenflow.methods.shot_stream import shot_stream
+    from peenflow.study.fidelity import PRESETS
+    from tasks import _kernel as K
+    from tasks.params import FidelityParams, ShotParams
+
+    pin_blas_threads()
+    shot = ShotParams(PT.S230.radius_m, PT.S230.density_kg_m3, 0.2)
+    p = PRESETS["standard"]
+    f = FidelityParams(25e-6, p["fine_depth_D"] * PT.S230.diameter_m, p["grading_ratio"], p["time_step_safety"],
+                       p["window_contact_radii"], p["settle_tolerance"], p["relaxation_tolerance"], "symmetric")
+    side = 6 * PT.S230.diameter_m
+    mesh = K.rev_mesh(f, side, 1.29e-3)
+    stream = shot_stream(rungs[-1], shot.radius_m, side / 2, side / 2, 90.0, 55.0, seed)
+    shots = shot.shots(stream.centres, stream.velocities)
+    run = ImpactRun(f.boundary(mesh), Material(**PT.SAE1070), f.options(shot))
+    opts = {t: dataclasses.replace(f, relaxation_tolerance=t).options(shot) for t in (1e-13, *tolerances)}
+    run.snapshot(shot.shots(stream.centres[:1], stream.velocities[:1]))  # multigrid setup, kernels loaded
+    print(f"# 6D x 6D strip REV, standard at 25 um: {mesh.n_elements} elements; loadavg {loadavg()}", flush=True)
+    print("| after shots | relaxation_tolerance | snapshot CPU s | snapshot / mean impact | profile error % of peak | "
+          "max abs d sigma MPa |")
+    print("|---|---|---|---|---|---|")
+    impact_cpu, rows = [], []
+    for i in range(rungs[-1]):
+        c0 = time.process_time()
+        run.impact(shots, i)
+        impact_cpu.append(time.process_time() - c0)
+        if i + 1 in rungs:
+            scales = reference_scales(shot.shots(stream.centres[:i + 1], stream.velocities[:i + 1]))
+            ref, _ = relax(run.model, run.state, opts[1e-13], *scales)
+            _, p0 = profile(ref, mesh, half=PT.S230.diameter_m)
+            for t in tolerances:
+                c0 = time.process_time()
+                rs, _ = relax(run.model, run.state, opts[t], *scales)
+                cpu = time.process_time() - c0
+                _, p1 = profile(rs, mesh, half=PT.S230.diameter_m)
+                rows.append((i + 1, t, cpu, 100 * np.abs(p1 - p0).max() / np.abs(p0).max(),
+                             np.abs(rs.stress - ref.stress).max() / 1e6))
+    mean = float(np.mean(impact_cpu[1:]))
+    for n, t, cpu, e_prof, e_max in rows:
+        print(f"| {n} | {t:g} | {cpu:.2f} | {cpu / mean:.2f} | {e_prof:.4f} | {e_max:.3f} |")
+    print(f"# impacts: mean {mean:.2f} s (the first, {impact_cpu[0]:.2f} s, left out); loadavg at end {loadavg()}")
+
+
 def window_minimum(speeds=(1.0, 5.0), h=25e-6):
     """Window minimum size for slow shots: peak force / restitution against the full mesh
     (stability sweep's 1.2 x 1.2 x 0.6 mm box, SAE 1070, normal; not relaxed)."""
@@ -772,4 +828,5 @@ if __name__ == "__main__":
         {"throughput": throughput, "rev": rev, "hertz": hertz_table, "hertz-layout": hertz_layouts, "plastic": plastic_table,
          "window": window_error, "window-timing": window_timing, "window-size": window_size, "settle": settle_tolerance, "window-seq": window_sequence, "springback": springback,
          "springback-study": springback_study,
+         "springback-tolerance": springback_tolerance,
          "window-min": window_minimum}[what]()
