@@ -662,13 +662,39 @@ def springback(speed=55.0, n_rev=12, snaps=(4, 8, 12)):
 #: (label, material, angle deg, speed m/s, REV thickness m, preset, element um, REV side mm, lateral faces)
 #: the REVs the shipped studies make (periodic 1.2 mm: paper_fast*.toml, the section-9 references; a 3 d_min
 #: symmetric REV, d_min ~ 0.6 mm: the rev.rule = "dmin" default; the paper's fixed 6D x 6D strip REV)
+#: the paper's fixed 6D x 6D strip REV with the standard preset (also :func:`springback_tolerance`'s)
+REV_6D_STANDARD = ("strip, symmetric 3.48 mm (6D)", "SAE1070", 90.0, 55.0, 1.29e-3, "standard", 25.0, 3.48, "symmetric")
 STUDY_REVS = (("strip, periodic 1.2 mm", "SAE1070", 90.0, 55.0, 1.29e-3, "standard", 25.0, 1.2, "periodic"),
               ("strip, periodic 1.2 mm", "SAE1070", 90.0, 55.0, 1.29e-3, "standard", 40.0, 1.2, "periodic"),
               ("strip, periodic 1.2 mm", "SAE1070", 90.0, 55.0, 1.29e-3, "paper", 25.0, 1.2, "periodic"),
               ("Al 7075 target, periodic 1.2 mm", "AL7075_T73", 65.0, 30.0, 0.9e-3, "standard", 25.0, 1.2, "periodic"),
               ("strip, symmetric 1.8 mm (3 d_min)", "SAE1070", 90.0, 55.0, 1.29e-3, "standard", 25.0, 1.8, "symmetric"),
-              ("strip, symmetric 3.48 mm (6D)", "SAE1070", 90.0, 55.0, 1.29e-3, "standard", 25.0, 3.48, "symmetric"),
+              REV_6D_STANDARD,
               ("strip, symmetric 3.48 mm (6D)", "SAE1070", 90.0, 55.0, 1.29e-3, "paper", 25.0, 3.48, "symmetric"))
+
+
+def _study_rev_run(row, n_shots: int, seed: int):
+    """A :data:`STUDY_REVS` row as a study builds it (``tasks._kernel.rev_mesh``, the preset's values,
+    ``FidelityParams.boundary`` / ``options``, the study's shot stream of ``n_shots``; S230 at
+    mu = 0.2): ``(fidelity, shot, mesh, stream, shots, ImpactRun)``, no impact run yet."""
+    import peenflow.testing as PT
+    from peenflow.fe.impact import ImpactRun
+    from peenflow.methods.shot_stream import shot_stream
+    from peenflow.study.fidelity import PRESETS
+    from tasks import _kernel as K
+    from tasks.params import FidelityParams, ShotParams
+
+    _, mat, angle, speed, thick, preset, h_um, side_mm, lateral = row
+    shot = ShotParams(PT.S230.radius_m, PT.S230.density_kg_m3, 0.2)
+    p = PRESETS[preset]
+    f = FidelityParams(h_um * 1e-6, p["fine_depth_D"] * PT.S230.diameter_m, p["grading_ratio"],
+                       p["time_step_safety"], p["window_contact_radii"], p["settle_tolerance"],
+                       p["relaxation_tolerance"], lateral)
+    side = side_mm * 1e-3
+    mesh = K.rev_mesh(f, side, thick)
+    stream = shot_stream(n_shots, shot.radius_m, side / 2, side / 2, angle, speed, seed)
+    shots = shot.shots(stream.centres, stream.velocities)
+    return f, shot, mesh, stream, shots, ImpactRun(f.boundary(mesh), Material(**getattr(PT, mat)), f.options(shot))
 
 
 def springback_study(rungs=(5, 10, 20), seed=1):
@@ -679,30 +705,16 @@ def springback_study(rungs=(5, 10, 20), seed=1):
     S230 at mu = 0.2; ``rungs[-1]`` shots, each impact's process CPU, and a relaxed snapshot at
     each rung (the first one again, without the one-off multigrid setup). One thread.
     """
-    import peenflow.testing as PT
     from peenflow.engine.blas import pin_blas_threads
-    from peenflow.fe.impact import ImpactRun
-    from peenflow.methods.shot_stream import shot_stream
-    from peenflow.study.fidelity import PRESETS
-    from tasks import _kernel as K
-    from tasks.params import FidelityParams, ShotParams
 
     pin_blas_threads()
-    shot = ShotParams(PT.S230.radius_m, PT.S230.density_kg_m3, 0.2)
     print(f"# spring-back on study REVs; loadavg {loadavg()}", flush=True)
     print("| REV | preset, h | elements | impact CPU s (mean, min-max) | snapshot CPU s at " + " / ".join(map(str, rungs))
           + " shots | first snapshot with the multigrid setup | snapshot / impact |")
     print("|---|---|---|---|---|---|---|")
-    for label, mat, angle, speed, thick, preset, h_um, side_mm, lateral in STUDY_REVS:
-        p = PRESETS[preset]
-        f = FidelityParams(h_um * 1e-6, p["fine_depth_D"] * PT.S230.diameter_m, p["grading_ratio"],
-                           p["time_step_safety"], p["window_contact_radii"], p["settle_tolerance"],
-                           p["relaxation_tolerance"], lateral)
-        side = side_mm * 1e-3
-        mesh = K.rev_mesh(f, side, thick)
-        stream = shot_stream(rungs[-1], shot.radius_m, side / 2, side / 2, angle, speed, seed)
-        shots = shot.shots(stream.centres, stream.velocities)
-        run = ImpactRun(f.boundary(mesh), Material(**getattr(PT, mat)), f.options(shot))
+    for row in STUDY_REVS:
+        label, preset, h_um = row[0], row[5], row[6]
+        _, shot, mesh, stream, shots, run = _study_rev_run(row, rungs[-1], seed)
         impact_cpu, snap_cpu, first = [], [], None
         for i in range(rungs[-1]):
             c0 = time.process_time()
@@ -727,8 +739,8 @@ def springback_study(rungs=(5, 10, 20), seed=1):
 
 
 def springback_tolerance(tolerances=(1e-8, 1e-7, 1e-6, 1e-5), rungs=(5, 10, 20), seed=1):
-    """The paper's fixed 6D x 6D strip REV (``standard`` preset at 25 um, symmetric faces, 1 D fine
-    zone): each snapshot relaxed at each ``fidelity.relaxation_tolerance`` of ``tolerances`` and at a
+    """The paper's fixed 6D x 6D strip REV (:data:`REV_6D_STANDARD`: ``standard`` preset at 25 um,
+    symmetric faces, 1 D fine zone): each snapshot relaxed at each ``fidelity.relaxation_tolerance`` of ``tolerances`` and at a
     strict one (1e-13); CPU against the mean impact, error against the strict state (sigma_xx
     profile over the central 2D x 2D measuring region, max |d| / max |sigma|; largest |d sigma| of any
     element component). One thread."""
@@ -736,23 +748,11 @@ def springback_tolerance(tolerances=(1e-8, 1e-7, 1e-6, 1e-5), rungs=(5, 10, 20),
 
     import peenflow.testing as PT
     from peenflow.engine.blas import pin_blas_threads
-    from peenflow.fe.impact import ImpactRun, reference_scales
+    from peenflow.fe.impact import reference_scales
     from peenflow.fe.relaxation import relax
-    from peenflow.methods.shot_stream import shot_stream
-    from peenflow.study.fidelity import PRESETS
-    from tasks import _kernel as K
-    from tasks.params import FidelityParams, ShotParams
 
     pin_blas_threads()
-    shot = ShotParams(PT.S230.radius_m, PT.S230.density_kg_m3, 0.2)
-    p = PRESETS["standard"]
-    f = FidelityParams(25e-6, p["fine_depth_D"] * PT.S230.diameter_m, p["grading_ratio"], p["time_step_safety"],
-                       p["window_contact_radii"], p["settle_tolerance"], p["relaxation_tolerance"], "symmetric")
-    side = 6 * PT.S230.diameter_m
-    mesh = K.rev_mesh(f, side, 1.29e-3)
-    stream = shot_stream(rungs[-1], shot.radius_m, side / 2, side / 2, 90.0, 55.0, seed)
-    shots = shot.shots(stream.centres, stream.velocities)
-    run = ImpactRun(f.boundary(mesh), Material(**PT.SAE1070), f.options(shot))
+    f, shot, mesh, stream, shots, run = _study_rev_run(REV_6D_STANDARD, rungs[-1], seed)
     opts = {t: dataclasses.replace(f, relaxation_tolerance=t).options(shot) for t in (1e-13, *tolerances)}
     run.snapshot(shot.shots(stream.centres[:1], stream.velocities[:1]))  # multigrid setup, kernels loaded
     print(f"# 6D x 6D strip REV, standard at 25 um: {mesh.n_elements} elements; loadavg {loadavg()}", flush=True)
