@@ -111,17 +111,21 @@ def cored(axis: np.ndarray, fine: float, h: float, hc: float, core: float) -> np
 
 
 def block(h: float, oblique: bool, surface_layers: tuple[float, float] | None = None,
-          core: tuple[float, float, float] | None = None, study_core=None) -> BoxMesh:
+          core: tuple[float, float, float] | None = None, study_core=None,
+          fine_zone: float = 0.3e-3) -> BoxMesh:
     """Quarter (normal) or half (oblique; y >= 0) model of the 6D x 6D x 1.29 mm block.
 
     ``surface_layers``: (depth, layer thickness) m of thinner top layers (:func:`variants`);
     ``core``: (element size, half width, depth) m of a finer core under the shot (:func:`cores`;
     along the stream of an oblique shot the same half width either side of the aim); ``study_core``:
-    a :class:`tasks._impact_core.ImpactCore`, graded as a study grades it (:func:`study_cores`)."""
-    half, depth, fine_depth = 3 * D, 1.29e-3, PROFILE_DEPTH
-    lat = graded_axis(0.3e-3, h, half, 1.2)
+    a :class:`tasks._impact_core.ImpactCore`, graded as a study grades it (:func:`study_cores`);
+    ``fine_zone``: extent (m) of the uniform fine zone across the stream and in depth (along the stream
+    of an oblique shot 0.15 mm more): 0.3 mm, the tables' block, leaves no room for a core's grading
+    back to 50 um elements, which a study's fine zone (0.6 of 3 D laterally, 0.75-1 D deep) has."""
+    half, depth, fine_depth = 3 * D, 1.29e-3, max(PROFILE_DEPTH, fine_zone)
+    lat = graded_axis(fine_zone, h, half, 1.2)
     z = graded_axis(fine_depth, h, depth, 1.2)
-    along = graded_axis(0.45e-3, h, half, 1.2)
+    along = graded_axis(fine_zone + 0.15e-3, h, half, 1.2)
     if surface_layers is not None:
         top, hz = surface_layers
         rest = graded_axis(fine_depth - top, h, depth - top, 1.2, start=top)
@@ -398,13 +402,14 @@ def metrics(res, mesh: BoxMesh) -> dict:
 
 def run(case: str, element: str, h_um: float, offset: float = 0.0, friction: float | None = None,
         surface_layers: tuple[float, float] | None = None, core: tuple[float, float, float] | None = None,
-        study_core_um: float | None = None) -> dict:
+        study_core_um: float | None = None, fine_zone: float = 0.3e-3) -> dict:
     """One run of ``case``; ``offset``: the shot's aim along the plane of incidence in elements from a
     node (0: on a node, the tables' runs; else on the half model, normal impacts too); ``friction``:
     the Coulomb coefficient if not the kernel's default 0.2 (:func:`friction_hump`);
     ``surface_layers``: thinner top layers (:func:`block`; on the half model); ``core``: a finer core
     under the shot (:func:`block`, :func:`cores`); ``study_core_um``: a core of that element size
-    sized and graded as a study's ``fidelity.dent_refinement = "core"`` makes it (:func:`study_cores`)."""
+    sized and graded as a study's ``fidelity.dent_refinement = "core"`` makes it (:func:`study_cores`);
+    ``fine_zone``: the block's fine zone (m, :func:`block`)."""
     mat, speed, angle = CASES[case]
     oblique = angle != 90.0 or offset != 0.0 or surface_layers is not None
     th = np.radians(angle)
@@ -415,7 +420,7 @@ def run(case: str, element: str, h_um: float, offset: float = 0.0, friction: flo
         from tasks._impact_core import core_for
 
         study_core = core_for(Material(**mat), shots, speed, angle, study_core_um * 1e-6)
-    mesh = block(h_um * 1e-6, oblique, surface_layers, core, study_core)
+    mesh = block(h_um * 1e-6, oblique, surface_layers, core, study_core, fine_zone)
     extra = {} if friction is None else {"friction": friction}
     opt = Options(window=False, record=True, record_every=20, **ELEMENTS[element], **extra)
     # compile (or load) the kernels outside the timing: a tiny impact on a 100 um mesh
@@ -613,28 +618,38 @@ def core_table(data: dict, rows) -> None:
 STUDY_CORES = (12.5, 6.25)
 
 
-def study_core_key(case: str, h_um: float, hc_um: float) -> str:
-    return f"{case}/physical-studycore/{h_um:g}/{hc_um:g}"
+def study_core_key(case: str, h_um: float, hc_um: float, fine_mm: float = 0.3) -> str:
+    return f"{case}/physical-studycore/{h_um:g}/{hc_um:g}" + ("" if fine_mm == 0.3 else f"/fine{fine_mm:g}")
 
 
-def study_cores(h_um: float = 25.0, sizes=STUDY_CORES) -> None:
+def study_cores(h_um: float = 25.0, sizes=STUDY_CORES, fine_mm: float = 0.3) -> None:
     """The cores a study makes (``fidelity.dent_refinement = "core"``, :mod:`tasks._impact_core`:
     1.5 estimated contact radii either side of the aim, one deep, graded back to ``h_um`` within the
-    block's ratio 1.2) on the ``h_um`` block, each case, stored, against the references beside the
-    uniform runs at ``h_um`` and at the core's size (BENCHMARKS.md 4c, "A finer core under the shot")."""
+    block's ratio 1.2) on the ``h_um`` block with a fine zone of ``fine_mm`` (:func:`block`), each case,
+    stored, against the references beside the uniform runs at ``h_um`` and at the core's size
+    (BENCHMARKS.md 4c, "A finer core under the shot"). With a fine zone other than the tables' 0.3 mm
+    the uncored ``h_um`` block of that fine zone is run and shown too: what the wider zone alone does."""
     stored = set(_load())
+    command = "PYTHONPATH=. python benchmarks/bench_hourglass.py study-cores" + (
+        "" if (h_um, fine_mm) == (25.0, 0.3) else f" {h_um:g} {fine_mm:g} " + " ".join(f"{c:g}" for c in sizes))
     for case in CASES:
+        if fine_mm != 0.3 and study_core_key(case, h_um, 0.0, fine_mm) not in stored:
+            out = run(case, "physical", h_um, fine_zone=fine_mm * 1e-3)
+            out["command"] = command
+            _store(study_core_key(case, h_um, 0.0, fine_mm), out)
         for hc in sizes:
-            if study_core_key(case, h_um, hc) not in stored:
-                out = run(case, "physical", h_um, study_core_um=hc)
-                out["command"] = "PYTHONPATH=. python benchmarks/bench_hourglass.py study-cores"
-                _store(study_core_key(case, h_um, hc), out)
+            if study_core_key(case, h_um, hc, fine_mm) not in stored:
+                out = run(case, "physical", h_um, study_core_um=hc, fine_zone=fine_mm * 1e-3)
+                out["command"] = command
+                _store(study_core_key(case, h_um, hc, fine_mm), out)
     data = _load()
 
     def rows(case):
         out = [(f"{h_um:g} um", data.get(f"{case}/physical/{h_um:g}"))]
+        if fine_mm != 0.3:
+            out.append((f"{h_um:g} um, fine zone {fine_mm:g} mm", data.get(study_core_key(case, h_um, 0.0, fine_mm))))
         for hc in sizes:
-            out += [(f"{h_um:g} um, study core {hc:g} um", data.get(study_core_key(case, h_um, hc))),
+            out += [(f"{h_um:g} um, study core {hc:g} um", data.get(study_core_key(case, h_um, hc, fine_mm))),
                     (f"{hc:g} um", data.get(f"{case}/physical/{hc:g}"))]
         return out
 
@@ -866,8 +881,11 @@ if __name__ == "__main__":
         recovery()
     elif sys.argv[1] == "cores":
         cores()
-    elif sys.argv[1] == "study-cores":
-        study_cores()
+    elif sys.argv[1] == "study-cores":  # [block um, fine zone mm, core sizes um...]: default 25, 0.3, STUDY_CORES
+        if len(sys.argv) > 2:
+            study_cores(float(sys.argv[2]), tuple(float(a) for a in sys.argv[4:]) or STUDY_CORES, float(sys.argv[3]))
+        else:
+            study_cores()
     elif sys.argv[1] == "legacy":
         legacy()
     elif sys.argv[1] == "cost":

@@ -54,6 +54,8 @@ SINGLE_IMPACT: dict[float, tuple[float, float, float, float, float]] = {
 SINGLE_IMPACT_CORE: dict[tuple[float, float], tuple[float, float, float, float, float]] = {
     (25.0, 12.5): (1.2, 5.6, 0.7, 0.006, 3.0),
     (25.0, 6.25): (0.4, 0.2, 0.3, 0.001, 0.4),
+    (50.0, 12.5): (1.3, 5.7, 1.0, 0.007, 3.0),
+    (50.0, 6.25): (0.4, 0.2, 0.4, 0.001, 0.6),
 }
 SINGLE_IMPACT_SOURCE = "BENCHMARKS.md section 4c"
 #: element size um -> (smallest, largest) intensity error in % over the four strip points, and the
