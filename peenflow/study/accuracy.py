@@ -73,12 +73,13 @@ STUDY_LEVEL_SOURCE = "BENCHMARKS.md section 9"
 N_F_LIMIT = 227.9
 #: element size um of the target's single impact -> the error of its N_f in % against N_F_LIMIT
 DENT_LEVEL_NF: dict[float, float] = {
-    60.0: -51.6, 40.0: -35.4, 25.0: -24.1, 16.0: -16.0, 12.5: -13.8, 10.0: -10.2, 8.0: -8.1, 6.25: -6.3,
+    60.0: -51.6, 50.0: -42.6, 40.0: -35.4, 25.0: -24.1, 16.0: -16.0, 12.5: -13.8, 10.0: -10.2, 8.0: -8.1, 6.25: -6.3,
 }
 #: (block element size um, core element size um) -> as DENT_LEVEL_NF, the dent from the block with a
 #: core of that size under the impact (``fidelity.dent_refinement = "core"``), BENCHMARKS.md section 9
 DENT_CORE_LEVEL_NF: dict[tuple[float, float], float] = {
     (25.0, 12.5): -13.9, (25.0, 10.0): -10.1, (25.0, 8.0): -8.1, (25.0, 6.25): -6.2, (40.0, 6.25): -6.2,
+    (50.0, 12.5): -13.8, (50.0, 6.25): -6.3,
 }
 #: (REV element size um, dent element size um) -> the target's profile on its first sequence (1.2 mm
 #: periodic REV) against the converged profile (the 0.9 mm REV refined 25 / 16 / 12.5 um at a fixed
