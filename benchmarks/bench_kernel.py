@@ -11,6 +11,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_kernel.py springback   # spring-back cost/error vs the impact (single, REV snapshots)
     PYTHONPATH=. python benchmarks/bench_kernel.py springback-study  # snapshot vs impact CPU on the REVs studies build
     PYTHONPATH=. python benchmarks/bench_kernel.py springback-tolerance  # the 6D REV's snapshots by relaxation tolerance
+    PYTHONPATH=. python benchmarks/bench_kernel.py springback-tolerance 1e-4,1e-3 20,80,200  # chosen tolerances, rungs
     PYTHONPATH=. python benchmarks/bench_kernel.py window-min   # window minimum size at 1 and 5 m/s vs the full mesh
     PYTHONPATH=. python benchmarks/bench_kernel.py hertz        # Hertz convergence table (quarter model)
     PYTHONPATH=. python benchmarks/bench_kernel.py plastic      # plastic dents at 25/55 m/s, refinement, rate on/off
@@ -824,6 +825,9 @@ if __name__ == "__main__":
     if what == "rev-relax":  # relaxation only: default window, 1 and 20 shots, no full-mesh run
         rev(windows=((4.0, 4.0),), full=False)
         rev(windows=((4.0, 4.0),), full=False, n_shots=20)
+    elif what == "springback-tolerance" and len(sys.argv) > 2:  # tolerances [rungs], comma-separated
+        springback_tolerance(tuple(float(t) for t in sys.argv[2].split(",")),
+                             *([tuple(int(n) for n in sys.argv[3].split(","))] if len(sys.argv) > 3 else []))
     else:
         {"throughput": throughput, "rev": rev, "hertz": hertz_table, "hertz-layout": hertz_layouts, "plastic": plastic_table,
          "window": window_error, "window-timing": window_timing, "window-size": window_size, "settle": settle_tolerance, "window-seq": window_sequence, "springback": springback,

@@ -80,8 +80,10 @@ BOUNDS: tuple[Bound, ...] = (
           "0 = whole mesh; shipped presets 3-6; a wider window only costs time"),
     Bound("fidelity.settle_tolerance", 1e-9, 1e-3, "",
           "bench_kernel settle: 1e-6 default, 1e-4 coarse; looser lets the next shot hit a ringing target"),
-    Bound("fidelity.relaxation_tolerance", 1e-12, 1e-5, "",
-          "the profile is within 0.04 % of a strict reference at 1e-7 (BENCHMARKS.md); looser is unmeasured"),
+    Bound("fidelity.relaxation_tolerance", 1e-12, 1e-3, "",
+          "against a strict solve, 6D REV snapshots: the averaged profile within 0.009 % of its peak at 1e-5 "
+          "(1.4-1.7 impacts), 0.21 % and every stress within 14 MPa at 1e-3 (0.9-1.2 impacts; BENCHMARKS.md "
+          "section 2); looser is unmeasured"),
     Bound("shot.friction_coefficient", 0.0, 0.6, "", "the paper's 0.2; measured steel-on-steel 0.1-0.6"),
     Bound("target.thickness_mm", 0.1, 1000.0, "mm", "parts and strips (0.79-2.39 mm) of real size"),
     Bound("shots.diameter_mm", 0.1, 3.0, "mm", "SAE J444 cast shot S70-S780 (0.18-2 mm), with margin"),

@@ -77,6 +77,29 @@ def test_static_matches_strict_relaxation(unrelaxed):
     assert np.abs(u - (st0.x - m.nodes0)).max() > 1e-3 * np.abs(u).max()
 
 
+def test_the_loosest_study_tolerance_keeps_its_stated_error(unrelaxed):
+    """``fidelity.relaxation_tolerance`` admits up to 1e-3 (peenflow.study.bounds), stated in
+    BENCHMARKS.md section 2 from the paper's 6D REV as: the averaged profile within 0.21 % of the
+    strict solve's peak and every stress within 14 MPa. On this second REV (two windowed impacts,
+    25 um) the loosest tolerance keeps both (measured: 0.12 %, 6.3 MPa, 3 element passes against
+    8 at 1e-7), and it is a real loosening (the profile moves by more than at 1e-7: 0.0009 %)."""
+    from peenflow.study.bounds import BOUNDS
+
+    loosest = next(b.high for b in BOUNDS if b.key == "fidelity.relaxation_tolerance")
+    assert loosest == 1e-3
+    t, mat, st0, e_ref = unrelaxed
+    m = Model(t, mat)
+    strict, _ = relax(m, st0, Options(relax_ke_fraction=1e-13, relax_cg_rtol=1e-4), e_ref, 55.0)
+    loose, rs = relax(m, st0, Options(relax_ke_fraction=loosest), e_ref, 55.0)
+    tight, rt = relax(m, st0, Options(relax_ke_fraction=1e-7), e_ref, 55.0)
+    assert rs.status == S.ST_OK and rs.info[S.I_STEPS] < rt.info[S.I_STEPS]
+    ps = _profile(m, strict)
+    err = np.abs(_profile(m, loose) - ps).max() / np.abs(ps).max()
+    assert err <= 0.0021
+    assert np.abs(loose.stress - strict.stress).max() <= 14e6
+    assert err > np.abs(_profile(m, tight) - ps).max() / np.abs(ps).max()
+
+
 def test_static_relaxation_of_a_state_at_rest_is_a_no_op(unrelaxed):
     t, mat, st0, e_ref = unrelaxed
     m = Model(t, mat)
