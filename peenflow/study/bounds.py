@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable, Iterator
+from typing import Iterator
 
 __all__ = ["Bound", "BOUNDS", "RELATIVE_BOUNDS", "bound_keys", "check_bounds", "contact_radius_m"]
 
