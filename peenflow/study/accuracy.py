@@ -182,12 +182,13 @@ def study_level_error(element_size_um: float, extrapolated_from_um: float | None
                     f", measured with order {INTENSITY_ORDER:g} where this study gives {order:g}")
                 return (f"study level ({STUDY_LEVEL_SOURCE}: {refs}): {how}: Almen intensity {lo:+.1f} ... "
                         f"{hi:+.1f} %, velocity for 12A {v12a:+.1f} %{basis}{tail}")
-        return f"study level not measured for {how} ({STUDY_LEVEL_SOURCE})"
+        return f"study level not measured for {how} ({STUDY_LEVEL_SOURCE}){tail}"
     for h, (lo, hi, v12a) in STUDY_LEVEL.items():
         if _same(h, element_size_um):
             return (f"study level ({STUDY_LEVEL_SOURCE}: {refs}): Almen intensity {lo:+.1f} ... {hi:+.1f} %, "
                     f"velocity for 12A {v12a:+.1f} % at {h:g} um{tail}")
-    return f"study level not measured at {element_size_um:g} um ({STUDY_LEVEL_SOURCE})"
+    # the target's N_f is its dent's, measured per dent level whether or not its REV level was
+    return f"study level not measured at {element_size_um:g} um ({STUDY_LEVEL_SOURCE}){tail}"
 
 
 def statement(fidelity, element_size_um: float | None = None, extrapolated: bool = True,

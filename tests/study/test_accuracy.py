@@ -237,3 +237,24 @@ def test_the_core_numbers_are_the_measured_ones():
         if m:
             found[(float(m[1]), float(m[2]))] = _errors(cells)
     assert found == SINGLE_IMPACT_CORE
+
+
+def test_a_50_um_study_with_a_dent_core_states_the_core_s_errors(tmp_path):
+    """A study at 50 um elements taking its dent from a 6.25 um core states the core's measured
+    N_f error (BENCHMARKS.md section 9, the 50 um block: -6.3 %, not the 50 um dent's -42.6 %) on its
+    REV results, and the 50 um block's core error (section 4c) on the dent's own results."""
+    from peenflow.study.accuracy import DENT_CORE_LEVEL_NF, DENT_LEVEL_NF, SINGLE_IMPACT_CORE
+
+    p = tmp_path / "core50.toml"
+    p.write_text((REPO / "studies" / "paper_fast.toml").read_text().replace(
+        'preset = "standard"                   # 40 um',
+        'preset = "standard"\nelement_size_um = 50.0\ndent_element_size_um = 6.25\ndent_refinement = "core"'))
+    fid = load_study(p).fidelity
+    assert fid.element_size_um == 50.0 and fid.dent_refinement == "core"
+    err = statement(fid)["peenflow_fidelity_error"]
+    assert f"N_f {DENT_CORE_LEVEL_NF[(50.0, 6.25)]:+.1f} % (dent from a core of 6.25 um elements in a 50 um block" in err
+    assert f"N_f {DENT_LEVEL_NF[50.0]:+.1f} %" not in err, err
+    dent = statement(fid, element_size_um=6.25, level="dent")
+    d, peak, *_ = SINGLE_IMPACT_CORE[(50.0, 6.25)]
+    assert (f"single impact with a core of 6.25 um elements in a 50 um block (worst of 4 cases, BENCHMARKS.md "
+            f"section 4c): dent depth <= {d:g} %, sigma_xx peak <= {peak:g} %") in dent["peenflow_fidelity_error"]
