@@ -89,6 +89,7 @@ DENT_CORE_LEVEL_NF: dict[tuple[float, float], float] = {
 TARGET_PROFILE_PEAK_MPA = -548.3
 TARGET_PROFILE: dict[tuple[float, float], tuple[float, float, float]] = {
     (60.0, 60.0): (-18.5, 0.7, 15.6),
+    (50.0, 6.25): (-8.1, 2.9, 7.6),
     (40.0, 40.0): (-11.1, -1.0, 7.9),
     (40.0, 16.0): (-8.8, 0.3, 6.2),
     (40.0, 6.25): (-9.2, 0.5, 6.7),
