@@ -110,9 +110,13 @@ def cored(axis: np.ndarray, fine: float, h: float, hc: float, core: float) -> np
     return np.concatenate([inner, axis[axis > fine * (1 + 1e-9)]])
 
 
+#: the tables' fine zone across the stream and in depth, mm (:func:`block`)
+FINE_ZONE_MM = 0.3
+
+
 def block(h: float, oblique: bool, surface_layers: tuple[float, float] | None = None,
           core: tuple[float, float, float] | None = None, study_core=None,
-          fine_zone: float = 0.3e-3) -> BoxMesh:
+          fine_zone: float = FINE_ZONE_MM * 1e-3) -> BoxMesh:
     """Quarter (normal) or half (oblique; y >= 0) model of the 6D x 6D x 1.29 mm block.
 
     ``surface_layers``: (depth, layer thickness) m of thinner top layers (:func:`variants`);
@@ -120,7 +124,7 @@ def block(h: float, oblique: bool, surface_layers: tuple[float, float] | None = 
     along the stream of an oblique shot the same half width either side of the aim); ``study_core``:
     a :class:`tasks._impact_core.ImpactCore`, graded as a study grades it (:func:`study_cores`);
     ``fine_zone``: extent (m) of the uniform fine zone across the stream and in depth (along the stream
-    of an oblique shot 0.15 mm more): 0.3 mm, the tables' block, leaves no room for a core's grading
+    of an oblique shot 0.15 mm more): :data:`FINE_ZONE_MM`, the tables' block, leaves no room for a core's grading
     back to 50 um elements, which a study's fine zone (0.6 of 3 D laterally, 0.75-1 D deep) has."""
     half, depth, fine_depth = 3 * D, 1.29e-3, max(PROFILE_DEPTH, fine_zone)
     lat = graded_axis(fine_zone, h, half, 1.2)
@@ -402,7 +406,7 @@ def metrics(res, mesh: BoxMesh) -> dict:
 
 def run(case: str, element: str, h_um: float, offset: float = 0.0, friction: float | None = None,
         surface_layers: tuple[float, float] | None = None, core: tuple[float, float, float] | None = None,
-        study_core_um: float | None = None, fine_zone: float = 0.3e-3) -> dict:
+        study_core_um: float | None = None, fine_zone: float = FINE_ZONE_MM * 1e-3) -> dict:
     """One run of ``case``; ``offset``: the shot's aim along the plane of incidence in elements from a
     node (0: on a node, the tables' runs; else on the half model, normal impacts too); ``friction``:
     the Coulomb coefficient if not the kernel's default 0.2 (:func:`friction_hump`);
@@ -618,11 +622,16 @@ def core_table(data: dict, rows) -> None:
 STUDY_CORES = (12.5, 6.25)
 
 
-def study_core_key(case: str, h_um: float, hc_um: float, fine_mm: float = 0.3) -> str:
-    return f"{case}/physical-studycore/{h_um:g}/{hc_um:g}" + ("" if fine_mm == 0.3 else f"/fine{fine_mm:g}")
+def study_core_key(case: str, h_um: float, hc_um: float, fine_mm: float = FINE_ZONE_MM) -> str:
+    return f"{case}/physical-studycore/{h_um:g}/{hc_um:g}" + ("" if fine_mm == FINE_ZONE_MM else f"/fine{fine_mm:g}")
 
 
-def study_cores(h_um: float = 25.0, sizes=STUDY_CORES, fine_mm: float = 0.3) -> None:
+def fine_zone_key(case: str, h_um: float, fine_mm: float) -> str:
+    """Key of the uncored ``h_um`` block with a fine zone of ``fine_mm`` (:func:`study_cores`)."""
+    return f"{case}/physical-fine/{h_um:g}/{fine_mm:g}"
+
+
+def study_cores(h_um: float = 25.0, sizes=STUDY_CORES, fine_mm: float = FINE_ZONE_MM) -> None:
     """The cores a study makes (``fidelity.dent_refinement = "core"``, :mod:`tasks._impact_core`:
     1.5 estimated contact radii either side of the aim, one deep, graded back to ``h_um`` within the
     block's ratio 1.2) on the ``h_um`` block with a fine zone of ``fine_mm`` (:func:`block`), each case,
@@ -630,13 +639,15 @@ def study_cores(h_um: float = 25.0, sizes=STUDY_CORES, fine_mm: float = 0.3) -> 
     (BENCHMARKS.md 4c, "A finer core under the shot"). With a fine zone other than the tables' 0.3 mm
     the uncored ``h_um`` block of that fine zone is run and shown too: what the wider zone alone does."""
     stored = set(_load())
+    wider = fine_mm != FINE_ZONE_MM
     command = "PYTHONPATH=. python benchmarks/bench_hourglass.py study-cores" + (
-        "" if (h_um, fine_mm) == (25.0, 0.3) else f" {h_um:g} {fine_mm:g} " + " ".join(f"{c:g}" for c in sizes))
+        "" if (h_um, fine_mm, tuple(sizes)) == (25.0, FINE_ZONE_MM, STUDY_CORES)
+        else f" {h_um:g} {fine_mm:g} " + " ".join(f"{c:g}" for c in sizes))
     for case in CASES:
-        if fine_mm != 0.3 and study_core_key(case, h_um, 0.0, fine_mm) not in stored:
+        if wider and fine_zone_key(case, h_um, fine_mm) not in stored:
             out = run(case, "physical", h_um, fine_zone=fine_mm * 1e-3)
             out["command"] = command
-            _store(study_core_key(case, h_um, 0.0, fine_mm), out)
+            _store(fine_zone_key(case, h_um, fine_mm), out)
         for hc in sizes:
             if study_core_key(case, h_um, hc, fine_mm) not in stored:
                 out = run(case, "physical", h_um, study_core_um=hc, fine_zone=fine_mm * 1e-3)
@@ -646,8 +657,8 @@ def study_cores(h_um: float = 25.0, sizes=STUDY_CORES, fine_mm: float = 0.3) -> 
 
     def rows(case):
         out = [(f"{h_um:g} um", data.get(f"{case}/physical/{h_um:g}"))]
-        if fine_mm != 0.3:
-            out.append((f"{h_um:g} um, fine zone {fine_mm:g} mm", data.get(study_core_key(case, h_um, 0.0, fine_mm))))
+        if wider:
+            out.append((f"{h_um:g} um, fine zone {fine_mm:g} mm", data.get(fine_zone_key(case, h_um, fine_mm))))
         for hc in sizes:
             out += [(f"{h_um:g} um, study core {hc:g} um", data.get(study_core_key(case, h_um, hc, fine_mm))),
                     (f"{hc:g} um", data.get(f"{case}/physical/{hc:g}"))]
