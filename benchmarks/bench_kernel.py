@@ -12,6 +12,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_kernel.py springback-study  # snapshot vs impact CPU on the REVs studies build
     PYTHONPATH=. python benchmarks/bench_kernel.py springback-tolerance  # the 6D REV's snapshots by relaxation tolerance
     PYTHONPATH=. python benchmarks/bench_kernel.py springback-tolerance 1e-4,1e-3 20,80,200  # chosen tolerances, rungs
+    PYTHONPATH=. python benchmarks/bench_kernel.py springback-mismatch  # why the 6D REV needs ~10 outer corrections
     PYTHONPATH=. python benchmarks/bench_kernel.py window-min   # window minimum size at 1 and 5 m/s vs the full mesh
     PYTHONPATH=. python benchmarks/bench_kernel.py hertz        # Hertz convergence table (quarter model)
     PYTHONPATH=. python benchmarks/bench_kernel.py plastic      # plastic dents at 25/55 m/s, refinement, rate on/off
@@ -782,6 +783,112 @@ def springback_tolerance(tolerances=(1e-8, 1e-7, 1e-6, 1e-5), rungs=(5, 10, 20),
     print(f"# impacts: mean {mean:.2f} s (the first, {impact_cpu[0]:.2f} s, left out); loadavg at end {loadavg()}")
 
 
+def springback_mismatch(n_shots=10, seed=1, probe_after=4):
+    """Why the static relaxation's outer loop needs ~10 corrections on the 6D REV (issue 13 section 3).
+
+    On the paper's 6D x 6D strip REV (:data:`REV_6D_STANDARD`) after ``n_shots`` impacts: the outer
+    corrections' imbalance energy (the kernel's own static records) at the preset's tolerance (1e-8)
+    with the default inner tolerance, with 100x and 10 000x stricter inner solves, and with yielding
+    switched off on the relaxed copy (static flow stress 1e15 Pa); then, at the correction after
+    ``probe_after`` ones, the true tangent's product ``J du`` (finite difference of the element pass
+    over the step ``du``, from a copy) against the multigrid operator's ``K du`` (the elastic box grid),
+    on the state as is and with geometry / stress / yielding taken apart, and where on the mesh the
+    difference lies. One thread."""
+    import dataclasses
+
+    from peenflow.engine.blas import pin_blas_threads
+    from peenflow.fe.impact import reference_scales
+    from peenflow.fe.multigrid import dot, pcg
+    from peenflow.fe import solver as S
+    from peenflow.fe.relaxation import STATIC_ENERGY_FACTOR, _forces, relax_static
+
+    pin_blas_threads()
+    f, shot, mesh, stream, shots, run = _study_rev_run(REV_6D_STANDARD, n_shots, seed)
+    for i in range(n_shots):
+        run.impact(shots, i)
+    model, st = run.model, run.state
+    e_ref, _ = reference_scales(shot.shots(stream.centres[:n_shots], stream.velocities[:n_shots]))
+    base = f.options(shot)
+    print(f"# 6D x 6D strip REV, standard at 25 um: {mesh.n_elements} elements, after {n_shots} shots; "
+          f"loadavg {loadavg()}", flush=True)
+    print("| outer loop | corrections to 1e-8 | imbalance energy / tolerance after each correction | CPU s |")
+    print("|---|---|---|---|")
+    for label, opts, elastic in (("default (inner CG rtol 0.3)", base, False),
+                                 ("inner CG rtol 1e-2", dataclasses.replace(base, relax_cg_rtol=1e-2), False),
+                                 ("inner CG rtol 1e-4", dataclasses.replace(base, relax_cg_rtol=1e-4), False),
+                                 ("default, yielding off", base, True)):
+        s = st.copy()
+        if elastic:
+            s.sy_static[:] = 1e15
+        c0 = time.process_time()
+        res = relax_static(model, s, opts, e_ref)
+        cpu = time.process_time() - c0
+        tol = STATIC_ENERGY_FACTOR * opts.relax_ke_fraction * e_ref
+        energies = list(res.records[:, 0]) + [res.info[S.I_KE_END]]
+        print(f"| {label} | {len(res.records)} | " + ", ".join(f"{e / tol:.1e}" for e in energies[1:])
+              + f" | {cpu:.2f} |", flush=True)
+    # the correction after `probe_after` ones, and the true tangent along it
+    mg = model.multigrid()
+    s = st.copy()
+    s.v[:] = 0.0
+    r = _forces(model, s, 0.0, 1, "mismatch")
+    for k in range(probe_after + 1):
+        z = mg.vcycle(r)
+        du, _, _ = pcg(mg, r, rtol=base.relax_cg_rtol, z0=z)
+        model.unfold(du)
+        if k == probe_after:
+            break
+        s.v[:] = du
+        s.x[:] += du
+        r = _forces(model, s, 1.0, 1, "mismatch")
+        s.v[:] = 0.0
+    kdu = np.empty_like(du)
+    mg.levels[0].apply(du, kdu)
+    nodes_ref = np.stack(np.meshgrid(mesh.x, mesh.y, mesh.z, indexing="ij"), -1).transpose(2, 1, 0, 3).reshape(-1, 3)
+
+    def tangent(state):
+        def step(d):
+            t = state.copy()
+            t.v[:] = d
+            t.x[:] += d
+            return _forces(model, t, 1.0, 1, "mismatch")
+        return step(0.0 * du) - step(du)
+
+    print()
+    print("| state the tangent is taken on | abs(J du - K du) / abs(K du) | du.(J - K) du / du.K du |")
+    print("|---|---|---|")
+    variants = (("as relaxed so far", {}), ("yielding off", dict(sy=True)),
+                ("deformed geometry, zero stress, yielding off", dict(sy=True, stress=True)),
+                ("reference geometry, current stress, yielding off", dict(sy=True, geometry=True)))
+    jdu0 = None
+    for label, kw in variants:
+        t = s.copy()
+        if kw.get("sy"):
+            t.sy_static[:] = 1e15
+        if kw.get("stress"):
+            t.stress[:] = 0.0
+            t.hg[:] = 0.0
+        if kw.get("geometry"):
+            t.x[:] = nodes_ref
+        jdu = tangent(t)
+        jdu0 = jdu if jdu0 is None else jdu0
+        d = jdu - kdu
+        print(f"| {label} | {np.linalg.norm(d) / np.linalg.norm(kdu):.4f} | {dot(du, d) / dot(du, kdu):+.4f} |", flush=True)
+    nnx, nny, nx, ny, nz = model.nnx, model.nny, model.nx, model.ny, model.nz
+    plastic = (st.eps_p > 1e-3).reshape(nz, ny, nx)
+    touch = np.zeros((nz + 1, nny, nnx), bool)
+    for a in (0, 1):
+        for b in (0, 1):
+            for c in (0, 1):
+                touch[a:a + nz, b:b + ny, c:c + nx] |= plastic
+    touch = touch.ravel()
+    d2 = np.sum((jdu0 - kdu) ** 2, axis=1)
+    k2 = np.sum(kdu ** 2, axis=1)
+    print(f"\n# elements with eps_p > 1e-3: {int(plastic.sum())} of {mesh.n_elements}; their {int(touch.sum())} nodes carry "
+          f"{100 * d2[touch].sum() / d2.sum():.1f} % of |J du - K du|^2 and {100 * k2[touch].sum() / k2.sum():.1f} % of "
+          f"|K du|^2; loadavg at end {loadavg()}")
+
+
 def window_minimum(speeds=(1.0, 5.0), h=25e-6):
     """Window minimum size for slow shots: peak force / restitution against the full mesh
     (stability sweep's 1.2 x 1.2 x 0.6 mm box, SAE 1070, normal; not relaxed)."""
@@ -833,4 +940,5 @@ if __name__ == "__main__":
          "window": window_error, "window-timing": window_timing, "window-size": window_size, "settle": settle_tolerance, "window-seq": window_sequence, "springback": springback,
          "springback-study": springback_study,
          "springback-tolerance": springback_tolerance,
+         "springback-mismatch": springback_mismatch,
          "window-min": window_minimum}[what]()
