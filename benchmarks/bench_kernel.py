@@ -797,9 +797,9 @@ def springback_mismatch(n_shots=10, seed=1, probe_after=4):
     import dataclasses
 
     from peenflow.engine.blas import pin_blas_threads
+    from peenflow.fe import solver as S
     from peenflow.fe.impact import reference_scales
     from peenflow.fe.multigrid import dot, pcg
-    from peenflow.fe import solver as S
     from peenflow.fe.relaxation import STATIC_ENERGY_FACTOR, _forces, relax_static
 
     pin_blas_threads()
