@@ -2,11 +2,13 @@
 impacts of ``bench_hourglass.py`` (issue 13 §1: "if another element measures better for the same cost, use it
 and show the comparison"). The element: :mod:`benchmarks.bbar.element_bbar`; the driver (same mesh, shot,
 contact, boundary conditions and settle as ``bench_hourglass.run``, dynamic final relaxation for both
-elements): :mod:`benchmarks.bbar.driver`. Results and conclusion: BENCHMARKS.md section 4d.
+elements): :mod:`benchmarks.bbar.driver`. Results and conclusion: BENCHMARKS.md section 4d. The element
+``physical8`` (the kernel's physical element with plasticity at its eight Gauss points) runs through the same
+driver: BENCHMARKS.md section 4e.
 
 Usage (from the repository root, one thread)::
 
-    PYTHONPATH=. python benchmarks/bench_bbar.py run CASE ELEMENT H_UM   # one run (ELEMENT: bbar | physical), stored
+    PYTHONPATH=. python benchmarks/bench_bbar.py run CASE ELEMENT H_UM   # one run (ELEMENT: bbar | physical | physical8), stored
     PYTHONPATH=. python benchmarks/bench_bbar.py all H_UM [H_UM ...]    # every case and element not stored yet
     PYTHONPATH=. python benchmarks/bench_bbar.py table                   # the tables, from the store only
     PYTHONPATH=. python benchmarks/bench_bbar.py cost                    # CPU s per 10^6 element updates
@@ -33,7 +35,7 @@ sys.path.insert(0, str(HERE))
 import bench_hourglass as bh  # noqa: E402
 
 STORE = HERE / "bbar" / "results.json"
-ELEMENTS = ("physical", "bbar")
+ELEMENTS = ("physical", "bbar", "physical8")
 SIZES = (50.0, 25.0, 12.5, 6.25)
 
 
@@ -138,12 +140,13 @@ def cost(shape=(40, 40, 40), rounds=3, reps=5) -> None:
     """CPU s per million element updates (1 thread, process CPU, best round): the kernel's vectorised one-point
     physical element (``element_rows``), its one-element-at-a-time reference (``element_reference.element_pass``),
     the B-bar element one point at a time (``bbar_pass``) and with its points as lanes (``bbar_pass_v``, the
+    driver's), the physical element with plasticity at its Gauss points (``p8_pass``, one element at a time, the
     driver's); elastic and every element (every Gauss point) yielding: the state of ``bench_hourglass.cost``,
     25 passes before the timing put the stress on the yield surface, and the timed passes are checked to do
     plastic work."""
     import numba
 
-    from benchmarks.bbar.element_bbar import bbar_pass, bbar_pass_v
+    from benchmarks.bbar.element_bbar import bbar_pass, bbar_pass_v, p8_pass
     from peenflow.fe.element import element_rows
     from peenflow.fe.element_reference import element_pass
     from peenflow.fe.johnson_cook import Material
@@ -160,10 +163,11 @@ def cost(shape=(40, 40, 40), rounds=3, reps=5) -> None:
     arr = mat.to_array(hourglass_type="physical")
     best = {}
     names = ("one-point physical, vectorised rows (kernel)", "one-point physical, reference (one element at a time)",
-             "B-bar, one Gauss point at a time (bbar_pass)", "B-bar, Gauss points as lanes (bbar_pass_v, driver)")
+             "B-bar, one Gauss point at a time (bbar_pass)", "B-bar, Gauss points as lanes (bbar_pass_v, driver)",
+             "physical8, one element at a time (p8_pass, driver)")
     for _ in range(rounds):
         for plastic in (False, True):
-            for which in range(4):
+            for which in range(5):
                 G = np.array([[1.0, 0.2, 0.0], [0.0, -0.5, 0.1], [0.3, 0.0, -0.5]]) * (1e5 if plastic else 1e2)
                 v = X @ G.T + np.random.default_rng(0).normal(0, 1e-2, X.shape)
                 npt = 8 * ne if which >= 2 else ne
@@ -171,7 +175,7 @@ def cost(shape=(40, 40, 40), rounds=3, reps=5) -> None:
                 if which >= 2:
                     a = [X, v, np.zeros((n, 3)), *st, np.full(npt, 293.0), mesh.element_volumes(), arr, 4e-9,
                          nnx, nny, nx, ny, 0, nx, 0, ny, 0, nz]
-                    fn = bbar_pass if which == 2 else bbar_pass_v
+                    fn = (bbar_pass, bbar_pass_v, p8_pass)[which - 2]
                 else:
                     a = [X, v, np.zeros((n, 3)), *st, np.zeros((ne, 12)), np.full(ne, 293.0),
                          mesh.element_volumes(), arr, 4e-9, nnx, nny, nx, ny, 0, nx, 0, ny, 0, nz]
@@ -187,7 +191,7 @@ def cost(shape=(40, 40, 40), rounds=3, reps=5) -> None:
                 best[(which, plastic)] = min(best.get((which, plastic), 1e30), per)
     print("| element | elastic CPU s / 10^6 element updates | all yielding | vs kernel rows (elastic / yielding) |")
     print("|---|---|---|---|")
-    for which in range(4):
+    for which in range(5):
         e, p = best[(which, False)], best[(which, True)]
         print(f"| {names[which]} | {e:.3f} | {p:.3f} | {e / best[(0, False)]:.1f}x / {p / best[(0, True)]:.1f}x |")
 

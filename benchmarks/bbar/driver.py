@@ -17,9 +17,12 @@ one-point element's stiffness. The element kinds:
 * ``"physical"``: the kernel's one-point element with physical hourglass control (``kind = 0``;
   identical to ``run_impacts(..., Options(relax_method="dynamic"))``, tests/fe/test_bbar_element.py);
 * ``"bbar"``: the B-bar (mean-dilatation) 2 x 2 x 2 hexahedron of :mod:`benchmarks.bbar.element_bbar`.
+* ``"physical8"``: the kernel's physical element with its assumed strain sampled at the 2 x 2 x 2 Gauss
+  points, a Johnson-Cook return at each (:func:`benchmarks.bbar.element_bbar.p8_pass`; BENCHMARKS.md 4e).
 
-The B-bar element's stress is kept per Gauss point; the metrics read each element's volume-weighted
-mean (what the one-point element's single stress stands for), so :func:`bench_hourglass.metrics`
+The B-bar and physical8 elements' stress is kept per Gauss point; the metrics read each element's
+volume-weighted mean (physical8: the plain mean, its points' weights being V / 8; what the one-point
+element's single stress stands for), so :func:`bench_hourglass.metrics`
 applies unchanged.
 """
 
@@ -49,7 +52,7 @@ from peenflow.fe.safety import check_status  # noqa: E402
 from peenflow.fe.shots import Shots, time_to_contact  # noqa: E402
 from peenflow.fe.window import contact_estimates  # noqa: E402
 
-KINDS = {"physical": 0, "bbar": 1, "full": 2}
+KINDS = {"physical": 0, "bbar": 1, "full": 2, "physical8": 3}
 #: sphere contact forms: the kernel's node contact, the mortar contact of benchmarks/bbar/contact_mortar.py
 CONTACTS = {"node": 0, "mortar": 1}
 
@@ -182,7 +185,8 @@ def simulate(target: Target, material: Material, shots: Shots, options: Options,
         stress, eps_p = st.stress.copy(), st.eps_p.copy()
     else:
         gp = st.stress.copy()
-        w = gauss_volumes(model, st.x).reshape(ne, 8)
+        # physical8: equal point weights V / 8, as its forces
+        w = gauss_volumes(model, st.x).reshape(ne, 8) if kind != 3 else np.ones((ne, 8))
         stress = np.einsum("eg,egc->ec", w, gp.reshape(ne, 8, 6)) / w.sum(1)[:, None]
         eps_p = (w * st.eps_p.reshape(ne, 8)).sum(1) / w.sum(1)
     return Result(stress, eps_p, st.x - model.nodes0, model.centroids, model.nodes0, shot_rec, [hist], impact_steps,

@@ -40,6 +40,10 @@ Per element and step (central difference, forces at ``t_{n+1}``), at the mid-ste
    highest frequency of assembled meshes of this element against this bound is in
    tests/fe/test_bbar_element.py (test_stable_step_bounds_assembled_mesh) and BENCHMARKS.md section 4d.
 
+:func:`p8_pass` (kind 3, "physical8") is another comparison element in this file: the kernel's physical
+one-point element with its assumed strain sampled at the Gauss points and a return at each (its docstring;
+BENCHMARKS.md 4e).
+
 :func:`bbar_pass` runs all elements of an index box one at a time (serial, element order; the
 scatter needs no colouring); :func:`bbar_pass_v` is the same with each element's 8 Gauss points as SIMD
 lanes (1.2x faster in bench_bbar.py cost, equal to round-off), the one the driver uses. :func:`run_phase_bbar` is a copy of
@@ -61,7 +65,8 @@ from numba import njit
 from benchmarks.bbar.contact_mortar import contact_mortar
 from peenflow.fe.contact import contact_kinematic
 from peenflow.fe.element import (H1, H2, H3, H4, ST_DISTORTION, ST_NEGATIVE_VOLUME, ST_OK, SX, SY, SZ,
-                                 _face_vectors, _rates, _scaled9, corner_offsets, element_rows)
+                                 _element_frame, _face_vectors, _hourglass_shape, _mode_rate, _rates, _rotate,
+                                 _scaled9, _tractions, corner_offsets, element_rows, hourglass_omega2_factor)
 from peenflow.fe.johnson_cook import (M_ADIABATIC, M_BULK_LIN, M_BULK_QUAD, M_HEAT, M_LAM, M_MU, M_RHO,
                                       jaumann_trial, plastic_correction, static_flow_stress, thermal_factor,
                                       von_mises)
@@ -601,10 +606,14 @@ def element_pass(kind, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, d
                  i0, i1, j0, j1, k0, k1):
     """The element pass of ``kind``: 0 the kernel's one-point element (element state per element, ``hg``
     its hourglass forces), 1 B-bar, 2 plain full integration (Gauss-point state, ``hg`` unused; the lane
-    version :func:`bbar_pass_v`)."""
+    version :func:`bbar_pass_v`), 3 the physical element with plasticity at its Gauss points
+    (:func:`p8_pass`, Gauss-point state, ``hg`` unused)."""
     if kind == 0:
         return element_rows(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny,
                             i0, i1, j0, j1, k0, k1)
+    if kind == 3:
+        return p8_pass(x, v, f, stress, eps_p, sy_static, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1,
+                       k0, k1)
     return bbar_pass_v(x, v, f, stress, eps_p, sy_static, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1,
                        k0, k1, kind == 1)
 
@@ -784,3 +793,275 @@ def run_phase_bbar(kind, mode, max_steps, record_every, x, v, f, mass, bc, stres
     info[S.I_VMAX_END] = vmax
     info[S.I_SEPARATED] = 1.0 if separated else 0.0
     return status
+
+
+# ---------------------------------------------------------------------------
+# The kernel's physical one-point element with its assumed strain sampled at the 8 Gauss points
+# ("physical8", kind 3): plasticity per point instead of the centroid's tangent in the hourglass
+# stiffness. Elastic response the same as the one-point physical element (element.py 5b).
+# ---------------------------------------------------------------------------
+
+
+@njit(**_jit)
+def _element_p8(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0, mat, dt, sp, sv):
+    """Element ``e``: the one-point element's kinematics and assumed-strain hourglass fields
+    (:mod:`peenflow.fe.element` docstring 5b) evaluated at the 2 x 2 x 2 Gauss points, each point with
+    its own Jaumann update and Johnson-Cook return (state rows ``8 e + g``).
+
+    The strain rate at point ``(xi, eta, zeta)`` is ``D_0 + E^T D_hg E``: ``D_0`` the one-point element's
+    (centroid, mid-step), ``E`` the element frame, ``D_hg`` in the frame from the hourglass rates
+    ``p_ak`` (amplitudes ``p_ak / 8``, ``b_k`` inverse half lengths): bending normal strains linear in
+    one coordinate with the transverse normal strain along it ``-nu_bar`` times their sum
+    (``nu_bar = lambda / (lambda + 2 mu)``, elastic moduli, as Belytschko and Bindeman's ASQBI: the
+    plane-stress condensation of the one-point element, so the elastic energies are its; the same
+    condensation with each point's plastic tangent of its previous step made the element too soft,
+    BENCHMARKS.md 4d), the torsion/warping shears, the
+    xi eta zeta normal strains made deviatoric. Spin: the centroid's. Forces: ``-V (sigma_bar - q I)
+    grad N_I`` with ``sigma_bar`` the points' mean, plus ``-sum_a gamma_a,I E^T F_a`` with
+    ``F_ak = sum_g (V / 8) sigma_g : dD_hg,g / dp_ak`` (the power of the points' stresses is
+    ``V sigma_bar : D_0 + F . p``). Scratch ``sp``, ``sv`` (7, 3).
+    Returns ``(dt_e, status, dW_int, dW_plastic, dW_viscous)``."""
+    hdt = 0.5 * dt
+    offs = corner_offsets(nnx, nnxy)
+    lam = mat[M_LAM]
+    mu = mat[M_MU]
+    sp[:] = 0.0
+    sv[:] = 0.0
+    for I in range(8):
+        n = n0 + offs[I]
+        sg = (SX[I], SY[I], SZ[I], H1[I], H2[I], H3[I], H4[I])
+        for c in range(3):
+            vc = v[n, c]
+            pc = x[n, c] - hdt * vc
+            for m in range(7):
+                sp[m, c] += sg[m] * pc
+                sv[m, c] += sg[m] * vc
+    r8 = 0.125
+    g1x, g1y, g1z = sp[0, 0] * r8, sp[0, 1] * r8, sp[0, 2] * r8
+    g2x, g2y, g2z = sp[1, 0] * r8, sp[1, 1] * r8, sp[1, 2] * r8
+    g3x, g3y, g3z = sp[2, 0] * r8, sp[2, 1] * r8, sp[2, 2] * r8
+    c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, det = _face_vectors(g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
+    if not (det > 0.0):
+        return 0.0, ST_NEGATIVE_VOLUME, 0.0, 0.0, 0.0
+    vol = 8.0 * det
+    ratio = vol / vol0[e]
+    if ratio < 0.1 or ratio > 10.0:
+        return 0.0, ST_DISTORTION, 0.0, 0.0, 0.0
+    d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z = _scaled9(1.0 / det, c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z)
+    lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy = _rates(
+        sv[0, 0] * r8, sv[0, 1] * r8, sv[0, 2] * r8, sv[1, 0] * r8, sv[1, 1] * r8, sv[1, 2] * r8,
+        sv[2, 0] * r8, sv[2, 1] * r8, sv[2, 2] * r8, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
+    w11, w12, w13, w21, w22, w23, w31, w32, w33, w41, w42, w43 = _hourglass_shape(
+        sp[3, 0], sp[3, 1], sp[3, 2], sp[4, 0], sp[4, 1], sp[4, 2], sp[5, 0], sp[5, 1], sp[5, 2],
+        sp[6, 0], sp[6, 1], sp[6, 2], d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
+    V1x, V1y, V1z = sv[0, 0], sv[0, 1], sv[0, 2]
+    V2x, V2y, V2z = sv[1, 0], sv[1, 1], sv[1, 2]
+    V3x, V3y, V3z = sv[2, 0], sv[2, 1], sv[2, 2]
+    q1x, q1y, q1z = _mode_rate(sv[3, 0], sv[3, 1], sv[3, 2], w11, w12, w13, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+    q2x, q2y, q2z = _mode_rate(sv[4, 0], sv[4, 1], sv[4, 2], w21, w22, w23, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+    q3x, q3y, q3z = _mode_rate(sv[5, 0], sv[5, 1], sv[5, 2], w31, w32, w33, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+    q4x, q4y, q4z = _mode_rate(sv[6, 0], sv[6, 1], sv[6, 2], w41, w42, w43, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+    e11, e12, e13, e21, e22, e23, e31, e32, e33, b1, b2, b3 = _element_frame(g1x, g1y, g1z, g2x, g2y, g2z,
+                                                                             g3x, g3y, g3z)
+    p1x, p1y, p1z = _rotate(e11, e12, e13, e21, e22, e23, e31, e32, e33, q1x, q1y, q1z)
+    p2x, p2y, p2z = _rotate(e11, e12, e13, e21, e22, e23, e31, e32, e33, q2x, q2y, q2z)
+    p3x, p3y, p3z = _rotate(e11, e12, e13, e21, e22, e23, e31, e32, e33, q3x, q3y, q3z)
+    p4x, p4y, p4z = _rotate(e11, e12, e13, e21, e22, e23, e31, e32, e33, q4x, q4y, q4z)
+    nub = lam / (lam + 2.0 * mu)
+    # strain-rate amplitudes in the frame (1/s), per coordinate the pattern varies with
+    ex_eta = p1x * b1 * r8
+    ez_eta = p2z * b3 * r8
+    sxz_eta = ex_eta + ez_eta
+    gxz_eta = (p1z * b1 + p2x * b3) * r8  # engineering shear
+    ex_zeta = p3x * b1 * r8
+    ey_zeta = p2y * b2 * r8
+    sxy_zeta = ex_zeta + ey_zeta
+    gxy_zeta = (p2x * b2 + p3y * b1) * r8
+    ey_xi = p1y * b2 * r8
+    ez_xi = p3z * b3 * r8
+    syz_xi = ey_xi + ez_xi
+    gyz_xi = (p1z * b2 + p3y * b3) * r8
+    a4x = p4x * b1 * r8
+    a4y = p4y * b2 * r8
+    a4z = p4z * b3 * r8
+    # bulk viscosity and step as the one-point element (element_reference.element_update)
+    mod = lam + 2.0 * mu
+    rho = mat[M_RHO] * vol0[e] / vol
+    c2 = mod / rho
+    cw = math.sqrt(c2)
+    amax = max(c1x * c1x + c1y * c1y + c1z * c1z, c2x * c2x + c2y * c2y + c2z * c2z)
+    amax = max(amax, c3x * c3x + c3y * c3y + c3z * c3z)
+    lch = 2.0 * det / math.sqrt(amax)
+    ev = lxx + lyy + lzz
+    qb = 0.0
+    qv = 0.0
+    dw_visc = 0.0
+    if ev < 0.0:
+        qv = mat[M_BULK_LIN] * cw - mat[M_BULK_QUAD] * lch * ev
+        qb = -rho * lch * qv * ev
+        dw_visc = -qb * ev * vol * dt
+    om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
+    om2 = om * om + hourglass_omega2_factor(mat) * c2 / (lch * lch)
+    dt_e = 2.0 / math.sqrt(om2)
+    wg = vol * r8
+    dw_int = 0.0
+    dw_pl = 0.0
+    m0 = m1 = m2 = m3 = m4 = m5 = 0.0
+    F1x = F1y = F1z = F2x = F2y = F2z = F3x = F3y = F3z = F4x = F4y = F4z = 0.0
+    for g in range(8):
+        xi = GP[g, 0]
+        eta = GP[g, 1]
+        zeta = GP[g, 2]
+        # frame strain rate of the hourglass fields at the point
+        txx = eta * ex_eta + zeta * ex_zeta - xi * nub * syz_xi
+        tyy = -eta * nub * sxz_eta + zeta * ey_zeta + xi * ey_xi
+        tzz = eta * ez_eta - zeta * nub * sxy_zeta + xi * ez_xi
+        ux = eta * zeta * a4x
+        uy = xi * zeta * a4y
+        uz = xi * eta * a4z
+        tu = (ux + uy + uz) / 3.0
+        txx += ux - tu
+        tyy += uy - tu
+        tzz += uz - tu
+        tyz = 0.5 * xi * gyz_xi
+        txz = 0.5 * eta * gxz_eta
+        txy = 0.5 * zeta * gxy_zeta
+        # to global axes: D = E^T T E (rows of E are the frame axes)
+        # columns k of E^T: e_k; D_ij = sum_kl e_ki T_kl e_lj
+        ax0 = txx * e11 + txy * e21 + txz * e31
+        ax1 = txx * e12 + txy * e22 + txz * e32
+        ax2 = txx * e13 + txy * e23 + txz * e33
+        ay0 = txy * e11 + tyy * e21 + tyz * e31
+        ay1 = txy * e12 + tyy * e22 + tyz * e32
+        ay2 = txy * e13 + tyy * e23 + tyz * e33
+        az0 = txz * e11 + tyz * e21 + tzz * e31
+        az1 = txz * e12 + tyz * e22 + tzz * e32
+        az2 = txz * e13 + tyz * e23 + tzz * e33
+        Dxx = lxx + e11 * ax0 + e21 * ay0 + e31 * az0
+        Dyy = lyy + e12 * ax1 + e22 * ay1 + e32 * az1
+        Dzz = lzz + e13 * ax2 + e23 * ay2 + e33 * az2
+        Dyz = dyz + e12 * ax2 + e22 * ay2 + e32 * az2
+        Dxz = dxz + e11 * ax2 + e21 * ay2 + e31 * az2
+        Dxy = dxy + e11 * ax1 + e21 * ay1 + e31 * az1
+        q = 8 * e + g
+        o0 = stress[q, 0]
+        o1 = stress[q, 1]
+        o2 = stress[q, 2]
+        o3 = stress[q, 3]
+        o4 = stress[q, 4]
+        o5 = stress[q, 5]
+        t0, t1, t2, t3, t4, t5 = jaumann_trial(o0, o1, o2, o3, o4, o5, Dxx, Dyy, Dzz, Dyz, Dxz, Dxy,
+                                               wyz, wxz, wxy, dt, lam, mu)
+        qt = von_mises(t0, t1, t2, t3, t4, t5)
+        if dt > 0.0 and qt > sy_static[q]:
+            t0, t1, t2, t3, t4, t5, deps, sy, gr, sy_new = plastic_correction(
+                t0, t1, t2, t3, t4, t5, qt, Dxx, Dyy, Dzz, Dyz, Dxz, Dxy, dt, eps_p[q], temp[q], mat)
+            if deps > 0.0:
+                ep = eps_p[q] + deps
+                eps_p[q] = ep
+                dw_pl += sy * deps * wg
+                if mat[M_ADIABATIC] != 0.0:
+                    temp[q] += mat[M_HEAT] * sy * deps
+                    sy_new = static_flow_stress(ep, thermal_factor(temp[q], mat), mat)
+                sy_static[q] = sy_new
+        stress[q, 0] = t0
+        stress[q, 1] = t1
+        stress[q, 2] = t2
+        stress[q, 3] = t3
+        stress[q, 4] = t4
+        stress[q, 5] = t5
+        dw_int += 0.5 * dt * wg * ((o0 + t0) * Dxx + (o1 + t1) * Dyy + (o2 + t2) * Dzz
+                                   + 2.0 * ((o3 + t3) * Dyz + (o4 + t4) * Dxz + (o5 + t5) * Dxy))
+        m0 += t0
+        m1 += t1
+        m2 += t2
+        m3 += t3
+        m4 += t4
+        m5 += t5
+        # the point's stress in the frame: S = E sigma E^T
+        r0x = e11 * t0 + e12 * t5 + e13 * t4
+        r0y = e11 * t5 + e12 * t1 + e13 * t3
+        r0z = e11 * t4 + e12 * t3 + e13 * t2
+        r1x = e21 * t0 + e22 * t5 + e23 * t4
+        r1y = e21 * t5 + e22 * t1 + e23 * t3
+        r1z = e21 * t4 + e22 * t3 + e23 * t2
+        r2x = e31 * t0 + e32 * t5 + e33 * t4
+        r2y = e31 * t5 + e32 * t1 + e33 * t3
+        r2z = e31 * t4 + e32 * t3 + e33 * t2
+        Sxx = r0x * e11 + r0y * e12 + r0z * e13
+        Syy = r1x * e21 + r1y * e22 + r1z * e23
+        Szz = r2x * e31 + r2y * e32 + r2z * e33
+        Syz = r1x * e31 + r1y * e32 + r1z * e33
+        Sxz = r0x * e31 + r0y * e32 + r0z * e33
+        Sxy = r0x * e21 + r0y * e22 + r0z * e23
+        # F_ak += w sigma : dD/dp_ak (shear: 2 S_ij D_ij, D_ij = gamma / 2)
+        s_eta = wg * eta * r8
+        s_zeta = wg * zeta * r8
+        s_xi = wg * xi * r8
+        F1x += s_eta * b1 * (Sxx - nub * Syy)
+        F2z += s_eta * b3 * (Szz - nub * Syy)
+        F1z += s_eta * b1 * Sxz + s_xi * b2 * Syz
+        F2x += s_eta * b3 * Sxz + s_zeta * b2 * Sxy
+        F3x += s_zeta * b1 * (Sxx - nub * Szz)
+        F2y += s_zeta * b2 * (Syy - nub * Szz)
+        F3y += s_zeta * b1 * Sxy + s_xi * b3 * Syz
+        F1y += s_xi * b2 * (Syy - nub * Sxx)
+        F3z += s_xi * b3 * (Szz - nub * Sxx)
+        pS = (Sxx + Syy + Szz) / 3.0
+        F4x += wg * eta * zeta * r8 * b1 * (Sxx - pS)
+        F4y += wg * xi * zeta * r8 * b2 * (Syy - pS)
+        F4z += wg * xi * eta * r8 * b3 * (Szz - pS)
+    m0 *= r8
+    m1 *= r8
+    m2 *= r8
+    m3 *= r8
+    m4 *= r8
+    m5 *= r8
+    t1x, t1y, t1z, t2x, t2y, t2z, t3x, t3y, t3z = _tractions(m0, m1, m2, m3, m4, m5, qb, vol,
+                                                             d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
+    f1x, f1y, f1z = _rotate(e11, e21, e31, e12, e22, e32, e13, e23, e33, F1x, F1y, F1z)
+    f2x, f2y, f2z = _rotate(e11, e21, e31, e12, e22, e32, e13, e23, e33, F2x, F2y, F2z)
+    f3x, f3y, f3z = _rotate(e11, e21, e31, e12, e22, e32, e13, e23, e33, F3x, F3y, F3z)
+    f4x, f4y, f4z = _rotate(e11, e21, e31, e12, e22, e32, e13, e23, e33, F4x, F4y, F4z)
+    for I in range(8):
+        n = n0 + offs[I]
+        a = SX[I]
+        b = SY[I]
+        c = SZ[I]
+        ga1 = H1[I] - (w11 * a + w12 * b + w13 * c)
+        ga2 = H2[I] - (w21 * a + w22 * b + w23 * c)
+        ga3 = H3[I] - (w31 * a + w32 * b + w33 * c)
+        ga4 = H4[I] - (w41 * a + w42 * b + w43 * c)
+        f[n, 0] -= a * t1x + b * t2x + c * t3x + ga1 * f1x + ga2 * f2x + ga3 * f3x + ga4 * f4x
+        f[n, 1] -= a * t1y + b * t2y + c * t3y + ga1 * f1y + ga2 * f2y + ga3 * f3y + ga4 * f4y
+        f[n, 2] -= a * t1z + b * t2z + c * t3z + ga1 * f1z + ga2 * f2z + ga3 * f3z + ga4 * f4z
+    return dt_e, ST_OK, dw_int, dw_pl, dw_visc
+
+
+@njit(**_jit)
+def p8_pass(x, v, f, stress, eps_p, sy_static, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1):
+    """All elements of the index box with :func:`_element_p8`, one at a time (Gauss-point state as
+    :func:`bbar_pass`). Returns ``(dt_min, status, dW_int, dW_plastic, 0, dW_viscous)``."""
+    nnxy = nnx * nny
+    sp = np.empty((7, 3))
+    sv = np.empty((7, 3))
+    dtmin = 1e30
+    status = 0
+    wi = 0.0
+    wp = 0.0
+    wv = 0.0
+    for k in range(k0, k1):
+        for j in range(j0, j1):
+            for i in range(i0, i1):
+                e = i + nx * (j + ny * k)
+                n0 = i + nnx * (j + nny * k)
+                dte, st, a1, a2, a3 = _element_p8(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp,
+                                                  vol0, mat, dt, sp, sv)
+                if st != ST_OK:
+                    status = max(status, st)
+                    continue
+                dtmin = min(dtmin, dte)
+                wi += a1
+                wp += a2
+                wv += a3
+    return (0.0 if status != 0 else dtmin), status, wi, wp, 0.0, wv
