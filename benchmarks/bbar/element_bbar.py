@@ -100,10 +100,12 @@ _jit = dict(cache=True, nogil=True)
 
 
 @njit(**_jit, inline="always")
-def _viscosity_and_step(c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, detc, vol, vol0_e, mat, lam, mu, ebar, dt):
+def _viscosity_and_step(c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, detc, vol, vol0_e, mat, lam, mu, ebar, dt,
+                        hg_factor=0.0):
     """Bulk viscosity on the mean dilatation rate ``ebar`` (1/s) and the element's stable step, as the
-    one-point element (element.py docstring 3 and 6, without its hourglass term); ``c*`` the centre face
-    vectors, ``detc`` their determinant. Returns (q Pa, its work J over ``dt``, dt_e s)."""
+    one-point element (element.py docstring 3 and 6; its hourglass term ``hg_factor c^2 / l^2`` only if
+    ``hg_factor > 0``: physical8 has the one-point element's hourglass stiffness, B-bar none); ``c*`` the
+    centre face vectors, ``detc`` their determinant. Returns (q Pa, its work J over ``dt``, dt_e s)."""
     amax = max(c1x * c1x + c1y * c1y + c1z * c1z, c2x * c2x + c2y * c2y + c2z * c2z)
     amax = max(amax, c3x * c3x + c3y * c3y + c3z * c3z)
     lch = 2.0 * detc / math.sqrt(amax)
@@ -118,7 +120,49 @@ def _viscosity_and_step(c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, detc, vol, 
         qb = -rho * lch * qv * ebar
         dw_visc = -qb * ebar * vol * dt
     om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
+    if hg_factor > 0.0:
+        return qb, dw_visc, 2.0 / math.sqrt(om * om + hg_factor * c2 / (lch * lch))
     return qb, dw_visc, 2.0 / om
+
+
+@njit(**_jit, inline="always")
+def _point_update(q, dxx, dyy, dzz, dyz, dxz, dxy, wyz, wxz, wxy, dt, lam, mu, vg, stress, eps_p, sy_static, temp,
+                  mat):
+    """Gauss point ``q`` (state row): Jaumann trial with the rate ``d`` and spin ``w`` (1/s), its von Mises
+    value, the Johnson-Cook return where it exceeds the point's static flow stress (and ``dt > 0``), the
+    static flow stress and adiabatic temperature updated as in :mod:`peenflow.fe.element`; the new stress
+    stored. ``vg`` the point's volume share (m^3). Returns the new stress (6, Pa), the point's internal
+    work over the step at mid-step stress and its plastic work (J)."""
+    o0 = stress[q, 0]
+    o1 = stress[q, 1]
+    o2 = stress[q, 2]
+    o3 = stress[q, 3]
+    o4 = stress[q, 4]
+    o5 = stress[q, 5]
+    t0, t1, t2, t3, t4, t5 = jaumann_trial(o0, o1, o2, o3, o4, o5, dxx, dyy, dzz, dyz, dxz, dxy, wyz, wxz, wxy,
+                                           dt, lam, mu)
+    qt = von_mises(t0, t1, t2, t3, t4, t5)
+    dw_pl = 0.0
+    if dt > 0.0 and qt > sy_static[q]:
+        t0, t1, t2, t3, t4, t5, deps, sy, gr, sy_new = plastic_correction(
+            t0, t1, t2, t3, t4, t5, qt, dxx, dyy, dzz, dyz, dxz, dxy, dt, eps_p[q], temp[q], mat)
+        if deps > 0.0:
+            ep = eps_p[q] + deps
+            eps_p[q] = ep
+            dw_pl = sy * deps * vg
+            if mat[M_ADIABATIC] != 0.0:
+                temp[q] += mat[M_HEAT] * sy * deps
+                sy_new = static_flow_stress(ep, thermal_factor(temp[q], mat), mat)
+            sy_static[q] = sy_new
+    stress[q, 0] = t0
+    stress[q, 1] = t1
+    stress[q, 2] = t2
+    stress[q, 3] = t3
+    stress[q, 4] = t4
+    stress[q, 5] = t5
+    dw = 0.5 * dt * vg * ((o0 + t0) * dxx + (o1 + t1) * dyy + (o2 + t2) * dzz
+                          + 2.0 * ((o3 + t3) * dyz + (o4 + t4) * dxz + (o5 + t5) * dxy))
+    return t0, t1, t2, t3, t4, t5, dw, dw_pl
 
 
 @njit(**_jit)
@@ -222,37 +266,11 @@ def _element(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0, ma
         lxx = row[10] + shift
         lyy = row[11] + shift
         lzz = row[12] + shift
-        dyz = row[13]
-        dxz = row[14]
-        dxy = row[15]
-        o0 = stress[q, 0]
-        o1 = stress[q, 1]
-        o2 = stress[q, 2]
-        o3 = stress[q, 3]
-        o4 = stress[q, 4]
-        o5 = stress[q, 5]
-        t0, t1, t2, t3, t4, t5 = jaumann_trial(o0, o1, o2, o3, o4, o5, lxx, lyy, lzz, dyz, dxz, dxy,
-                                               row[16], row[17], row[18], dt, lam, mu)
-        qt = von_mises(t0, t1, t2, t3, t4, t5)
-        if dt > 0.0 and qt > sy_static[q]:
-            t0, t1, t2, t3, t4, t5, deps, sy, gr, sy_new = plastic_correction(
-                t0, t1, t2, t3, t4, t5, qt, lxx, lyy, lzz, dyz, dxz, dxy, dt, eps_p[q], temp[q], mat)
-            if deps > 0.0:
-                ep = eps_p[q] + deps
-                eps_p[q] = ep
-                dw_pl += sy * deps * row[9]
-                if mat[M_ADIABATIC] != 0.0:
-                    temp[q] += mat[M_HEAT] * sy * deps
-                    sy_new = static_flow_stress(ep, thermal_factor(temp[q], mat), mat)
-                sy_static[q] = sy_new
-        stress[q, 0] = t0
-        stress[q, 1] = t1
-        stress[q, 2] = t2
-        stress[q, 3] = t3
-        stress[q, 4] = t4
-        stress[q, 5] = t5
-        dw_int += 0.5 * dt * row[9] * ((o0 + t0) * lxx + (o1 + t1) * lyy + (o2 + t2) * lzz
-                                       + 2.0 * ((o3 + t3) * dyz + (o4 + t4) * dxz + (o5 + t5) * dxy))
+        t0, t1, t2, t3, t4, t5, dw, dwp = _point_update(q, lxx, lyy, lzz, row[13], row[14], row[15], row[16],
+                                                        row[17], row[18], dt, lam, mu, row[9], stress, eps_p,
+                                                        sy_static, temp, mat)
+        dw_int += dw
+        dw_pl += dwp
         row[19] = t0
         row[20] = t1
         row[21] = t2
@@ -304,15 +322,18 @@ def _element(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0, ma
 
 @njit(**_jit)
 def bbar_pass(x, v, f, stress, eps_p, sy_static, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1,
-              bbar=True):
+              bbar=True, p8=False):
     """All elements of the index box, one at a time (the contract of :func:`peenflow.fe.element.element_rows`
     with Gauss-point state: ``stress`` (8 ne, 6), ``eps_p``, ``sy_static``, ``temp`` (8 ne,); no hourglass
-    array). ``f`` must be zero on the box's nodes. Returns ``(dt_min, status, dW_int, dW_plastic, 0, dW_viscous)``."""
+    array). ``f`` must be zero on the box's nodes. ``p8``: the element :func:`_element_p8` instead (``bbar``
+    then unused). Returns ``(dt_min, status, dW_int, dW_plastic, 0, dW_viscous)``."""
     nnxy = nnx * nny
     sc = np.empty((8, 25))
     a = np.empty((8, 3))
     b = np.empty((8, 3))
     fl = np.empty((8, 3))
+    sp = np.empty((7, 3))
+    sv = np.empty((7, 3))
     dtmin = 1e30
     status = 0
     wi = 0.0
@@ -323,8 +344,12 @@ def bbar_pass(x, v, f, stress, eps_p, sy_static, temp, vol0, mat, dt, nnx, nny, 
             for i in range(i0, i1):
                 e = i + nx * (j + ny * k)
                 n0 = i + nnx * (j + nny * k)
-                dte, st, a1, a2, a3 = _element(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0,
-                                               mat, dt, bbar, sc, a, b, fl)
+                if p8:
+                    dte, st, a1, a2, a3 = _element_p8(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp,
+                                                      vol0, mat, dt, sp, sv)
+                else:
+                    dte, st, a1, a2, a3 = _element(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp,
+                                                   vol0, mat, dt, bbar, sc, a, b, fl)
                 if st != ST_OK:
                     status = max(status, st)
                     continue
@@ -815,7 +840,7 @@ def _element_p8(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0,
     (``nu_bar = lambda / (lambda + 2 mu)``, elastic moduli, as Belytschko and Bindeman's ASQBI: the
     plane-stress condensation of the one-point element, so the elastic energies are its; the same
     condensation with each point's plastic tangent of its previous step made the element too soft,
-    BENCHMARKS.md 4d), the torsion/warping shears, the
+    BENCHMARKS.md 4e), the torsion/warping shears, the
     xi eta zeta normal strains made deviatoric. Spin: the centroid's. Forces: ``-V (sigma_bar - q I)
     grad N_I`` with ``sigma_bar`` the points' mean, plus ``-sum_a gamma_a,I E^T F_a`` with
     ``F_ak = sum_g (V / 8) sigma_g : dD_hg,g / dp_ak`` (the power of the points' stresses is
@@ -885,24 +910,8 @@ def _element_p8(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0,
     a4y = p4y * b2 * r8
     a4z = p4z * b3 * r8
     # bulk viscosity and step as the one-point element (element_reference.element_update)
-    mod = lam + 2.0 * mu
-    rho = mat[M_RHO] * vol0[e] / vol
-    c2 = mod / rho
-    cw = math.sqrt(c2)
-    amax = max(c1x * c1x + c1y * c1y + c1z * c1z, c2x * c2x + c2y * c2y + c2z * c2z)
-    amax = max(amax, c3x * c3x + c3y * c3y + c3z * c3z)
-    lch = 2.0 * det / math.sqrt(amax)
-    ev = lxx + lyy + lzz
-    qb = 0.0
-    qv = 0.0
-    dw_visc = 0.0
-    if ev < 0.0:
-        qv = mat[M_BULK_LIN] * cw - mat[M_BULK_QUAD] * lch * ev
-        qb = -rho * lch * qv * ev
-        dw_visc = -qb * ev * vol * dt
-    om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
-    om2 = om * om + hourglass_omega2_factor(mat) * c2 / (lch * lch)
-    dt_e = 2.0 / math.sqrt(om2)
+    qb, dw_visc, dt_e = _viscosity_and_step(c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, det, vol, vol0[e], mat,
+                                             lam, mu, lxx + lyy + lzz, dt, hourglass_omega2_factor(mat))
     wg = vol * r8
     dw_int = 0.0
     dw_pl = 0.0
@@ -943,35 +952,10 @@ def _element_p8(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0,
         Dyz = dyz + e12 * ax2 + e22 * ay2 + e32 * az2
         Dxz = dxz + e11 * ax2 + e21 * ay2 + e31 * az2
         Dxy = dxy + e11 * ax1 + e21 * ay1 + e31 * az1
-        q = 8 * e + g
-        o0 = stress[q, 0]
-        o1 = stress[q, 1]
-        o2 = stress[q, 2]
-        o3 = stress[q, 3]
-        o4 = stress[q, 4]
-        o5 = stress[q, 5]
-        t0, t1, t2, t3, t4, t5 = jaumann_trial(o0, o1, o2, o3, o4, o5, Dxx, Dyy, Dzz, Dyz, Dxz, Dxy,
-                                               wyz, wxz, wxy, dt, lam, mu)
-        qt = von_mises(t0, t1, t2, t3, t4, t5)
-        if dt > 0.0 and qt > sy_static[q]:
-            t0, t1, t2, t3, t4, t5, deps, sy, gr, sy_new = plastic_correction(
-                t0, t1, t2, t3, t4, t5, qt, Dxx, Dyy, Dzz, Dyz, Dxz, Dxy, dt, eps_p[q], temp[q], mat)
-            if deps > 0.0:
-                ep = eps_p[q] + deps
-                eps_p[q] = ep
-                dw_pl += sy * deps * wg
-                if mat[M_ADIABATIC] != 0.0:
-                    temp[q] += mat[M_HEAT] * sy * deps
-                    sy_new = static_flow_stress(ep, thermal_factor(temp[q], mat), mat)
-                sy_static[q] = sy_new
-        stress[q, 0] = t0
-        stress[q, 1] = t1
-        stress[q, 2] = t2
-        stress[q, 3] = t3
-        stress[q, 4] = t4
-        stress[q, 5] = t5
-        dw_int += 0.5 * dt * wg * ((o0 + t0) * Dxx + (o1 + t1) * Dyy + (o2 + t2) * Dzz
-                                   + 2.0 * ((o3 + t3) * Dyz + (o4 + t4) * Dxz + (o5 + t5) * Dxy))
+        t0, t1, t2, t3, t4, t5, dw, dwp = _point_update(8 * e + g, Dxx, Dyy, Dzz, Dyz, Dxz, Dxy, wyz, wxz, wxy, dt,
+                                                        lam, mu, wg, stress, eps_p, sy_static, temp, mat)
+        dw_int += dw
+        dw_pl += dwp
         m0 += t0
         m1 += t1
         m2 += t2
@@ -1040,28 +1024,7 @@ def _element_p8(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp, vol0,
 
 @njit(**_jit)
 def p8_pass(x, v, f, stress, eps_p, sy_static, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1):
-    """All elements of the index box with :func:`_element_p8`, one at a time (Gauss-point state as
-    :func:`bbar_pass`). Returns ``(dt_min, status, dW_int, dW_plastic, 0, dW_viscous)``."""
-    nnxy = nnx * nny
-    sp = np.empty((7, 3))
-    sv = np.empty((7, 3))
-    dtmin = 1e30
-    status = 0
-    wi = 0.0
-    wp = 0.0
-    wv = 0.0
-    for k in range(k0, k1):
-        for j in range(j0, j1):
-            for i in range(i0, i1):
-                e = i + nx * (j + ny * k)
-                n0 = i + nnx * (j + nny * k)
-                dte, st, a1, a2, a3 = _element_p8(e, n0, nnx, nnxy, x, v, f, stress, eps_p, sy_static, temp,
-                                                  vol0, mat, dt, sp, sv)
-                if st != ST_OK:
-                    status = max(status, st)
-                    continue
-                dtmin = min(dtmin, dte)
-                wi += a1
-                wp += a2
-                wv += a3
-    return (0.0 if status != 0 else dtmin), status, wi, wp, 0.0, wv
+    """All elements of the index box with :func:`_element_p8`, one at a time (:func:`bbar_pass` with
+    ``p8=True``; Gauss-point state as there). Returns ``(dt_min, status, dW_int, dW_plastic, 0, dW_viscous)``."""
+    return bbar_pass(x, v, f, stress, eps_p, sy_static, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0,
+                     k1, True, True)

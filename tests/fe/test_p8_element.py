@@ -23,9 +23,8 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from benchmarks.bbar.element_bbar import p8_pass  # noqa: E402
 from peenflow.fe.johnson_cook import Material  # noqa: E402
-from peenflow.fe.mesh import BoxMesh  # noqa: E402
-from tests.fe.test_bbar_element import (G, PLASTIC, STEEL, _distorted, _gp_arrays, _mat, _one_point,  # noqa: E402
-                                        element_matrix)
+from tests.fe.test_bbar_element import (PLASTIC, STEEL, _mat, element_matrix, rigid_rotation_stress,  # noqa: E402
+                                        uniform_strain_against_one_point)
 
 
 def _p8(mesh, x, v, f, st, mat, dt):
@@ -51,46 +50,13 @@ def test_elastic_stiffness_is_the_one_point_physical_element(box):
 def test_uniform_strain_equals_one_point_element(material):
     """A uniform velocity gradient with spin on an affinely distorted mesh, 40 steps: the hourglass rates
     vanish, so every Gauss point follows the one-point element's stress, plastic strain and flow stress."""
-    h = 1e-4
-    mesh = BoxMesh(np.arange(3) * h, np.arange(3) * h, np.arange(3) * h)
-    A = np.array([[1.0, 0.1, 0.05], [0.0, 0.9, 0.12], [0.03, 0.0, 1.1]])
-    X = mesh.node_coordinates() @ A.T
-    ne = mesh.n_elements
-    mat = _mat(material, bulk=(0.06, 1.5))
-    rate = 2e5 if material is PLASTIC else 1e2
-    L = G * rate + np.array([[0, 0.5, 0], [-0.5, 0, 0], [0, 0, 0]]) * rate
-    dt = 2e-9
-    sy0 = material.A
-    gp = _gp_arrays(ne, sy0)
-    op = [np.zeros((ne, 6)), np.zeros(ne), np.full(ne, sy0), np.zeros((ne, 12)), np.full(ne, 293.0)]
-    x = X.copy()
-    f = np.zeros_like(X)
-    for _ in range(40):
-        v = x @ L.T
-        x = x + dt * v
-        _p8(mesh, x, v, f, gp, mat, dt)
-        _one_point(mesh, x, v, f, op, mat, dt)
-        scale = np.abs(op[0]).max()
-        assert np.abs(gp[0] - np.repeat(op[0], 8, axis=0)).max() <= 1e-9 * scale
-        assert np.abs(gp[1] - np.repeat(op[1], 8)).max() <= 1e-9 * max(op[1].max(), 1e-30)
-    assert (op[1].max() > 0) == (material is PLASTIC)
+    uniform_strain_against_one_point(material, _p8, 1e-9)
 
 
 def test_rigid_rotation_creates_no_stress():
     """A finite rigid rotation (0.3 rad) and translation over one step of a distorted mesh: no stress, no force."""
-    mesh, X = _distorted(seed=3)
-    dt = 1e-8
-    th = 0.3
-    ax = np.array([1.0, 2.0, 0.5])
-    ax /= np.linalg.norm(ax)
-    K = np.array([[0, -ax[2], ax[1]], [ax[2], 0, -ax[0]], [-ax[1], ax[0], 0]])
-    R = np.eye(3) + math.sin(th) * K + (1 - math.cos(th)) * K @ K
-    x1 = X @ R.T + np.array([1e-5, -2e-5, 3e-6])
-    f = np.zeros_like(X)
-    st = _gp_arrays(mesh.n_elements)
-    _p8(mesh, x1, (x1 - X) / dt, f, st, _mat(), dt)
-    assert np.abs(st[0]).max() <= 1e-9 * STEEL.E * th
-    assert np.abs(f).max() <= 1e-9 * STEEL.E * th * 1e-8
+    stress, force = rigid_rotation_stress(_p8)
+    assert stress <= 1e-9 and force <= 1e-9
 
 
 def test_impacts_against_the_one_point_element():
