@@ -23,7 +23,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_hourglass.py variants                # thinner top layers, 20 um (not stored)
     PYTHONPATH=. python benchmarks/bench_hourglass.py recovery                # normal dents: approach vs recovery (not stored)
     PYTHONPATH=. python benchmarks/bench_hourglass.py cores                   # a finer core under the shot (stored)
-    PYTHONPATH=. python benchmarks/bench_hourglass.py study-cores             # the cores a study makes (stored)
+    PYTHONPATH=. python benchmarks/bench_hourglass.py study-cores [H_UM FINE_MM [CORE_UM ...]]  # the cores a study makes (stored)
 
 Every run is stored (metrics, CPU s, the command) in
 ``benchmarks/reference/hourglass.json``; ``table`` reads only that file.
@@ -893,6 +893,9 @@ if __name__ == "__main__":
     elif sys.argv[1] == "cores":
         cores()
     elif sys.argv[1] == "study-cores":  # [block um, fine zone mm, core sizes um...]: default 25, 0.3, STUDY_CORES
+        if len(sys.argv) == 3:
+            sys.exit("study-cores: give the block's fine zone (mm) after its element size (um), e.g. "
+                     "study-cores 50 0.5 12.5 6.25; or no arguments for 25 um, 0.3 mm and the default cores")
         if len(sys.argv) > 2:
             study_cores(float(sys.argv[2]), tuple(float(a) for a in sys.argv[4:]) or STUDY_CORES, float(sys.argv[3]))
         else:
