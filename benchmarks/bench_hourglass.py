@@ -18,6 +18,7 @@ Usage (from the repository root)::
     PYTHONPATH=. python benchmarks/bench_hourglass.py remetric                # surface figures again from the stored lines
     PYTHONPATH=. python benchmarks/bench_hourglass.py bias                    # the surface metric on coarser samplings
     PYTHONPATH=. python benchmarks/bench_hourglass.py profile-bias            # the sigma_xx(z) reading on coarser layers
+    PYTHONPATH=. python benchmarks/bench_hourglass.py goals                   # issue 13 §1 goal by goal: uniform, resolution limit, cores
     PYTHONPATH=. python benchmarks/bench_hourglass.py offsets [H_UM ...]      # the shot aimed between nodes (default 60-12.5 um)
     PYTHONPATH=. python benchmarks/bench_hourglass.py friction                # the 45 deg hump with and without friction
     PYTHONPATH=. python benchmarks/bench_hourglass.py variants                # thinner top layers, 20 um (not stored)
@@ -667,6 +668,127 @@ def study_cores(h_um: float = 25.0, sizes=STUDY_CORES, fine_mm: float = FINE_ZON
     core_table(data, rows)
 
 
+#: issue 13 §1's goals: relative |error| (restitution: absolute; hg_over_int: the ratio itself) at 25 and 50 um
+GOALS = {
+    25.0: dict(dent_um=0.03, dent_radius_mm=0.03, sxx_peak_mpa=0.03, zero_depth_mm=0.03, crest_radius_mm=0.05,
+               crest_height_um=0.15, restitution=0.02, profile_rms=0.04, hg_over_int=0.05),
+    50.0: dict(dent_um=0.08, dent_radius_mm=0.08, sxx_peak_mpa=0.08, zero_depth_mm=0.08, crest_radius_mm=0.08,
+               crest_height_um=0.08, restitution=0.02, profile_rms=0.08),
+}
+#: the cores a study can put under its dent in a block of each size (:func:`study_cores`; key suffix)
+GOAL_CORES = {25.0: ((6.25, ""),), 50.0: ((12.5, "/fine0.5"), (6.25, "/fine0.5"))}
+_SURFACE = ("dent_um", "dent_radius_mm", "crest_radius_mm", "crest_height_um")
+_PROFILE = ("sxx_peak_mpa", "zero_depth_mm", "profile_rms")
+
+
+def resolution_limit(v: dict, step: int) -> dict:
+    """What a perfect element at ``step`` times the 6.25 um run ``v``'s spacing would still read off, per
+    figure: (mean, largest) |relative error| of the figure read from ``v``'s own fields seen at that
+    resolution against the figure read from them in full. Surface figures: its surface line taken at
+    every ``step``-th node from each of the ``step`` offsets (a shot landing anywhere on the grid,
+    :func:`sampling_bias`); sigma_xx figures: its column profile averaged over ``step`` layers (a
+    one-point element holds its element's mean, :func:`profile_sampling_bias`), read as the runs are.
+    A lower bound on any element's error at that size: it is the reading's, not the element's."""
+    x, u = np.array(v["surface_x_mm"]) * 1e-3, np.array(v["surface_uz_um"]) * 1e-6
+    full = surface_metrics(x, u)
+    xw, uw = _whole_line(x, u)
+    errs: dict = {k: [] for k in _SURFACE}
+    for off in range(step):
+        m = surface_metrics(x[off::step], u[off::step])
+        m["dent_um"] = dent_bottom(xw[off::step], uw[off::step]) * 1e6
+        for k in _SURFACE:
+            errs[k].append(abs(m[k] / full[k] - 1.0))
+    edges = layer_edges(v["profile_z_mm"])
+    n = (len(edges) - 1) // step * step
+    coarse_edges = edges[: n + 1: step]
+    means = (np.array(v["profile_mpa"][:n]) * np.diff(edges[: n + 1])).reshape(-1, step).sum(1) / np.diff(coarse_edges)
+    coarse = profile_metrics(0.5 * (coarse_edges[1:] + coarse_edges[:-1]), means)
+    fine = profile_metrics(v["profile_z_mm"], v["profile_mpa"])
+    for k in ("sxx_peak_mpa", "zero_depth_mm"):
+        errs[k] = [abs(coarse[k] / fine[k] - 1.0)]
+    errs["profile_rms"] = [profile_rms(coarse, fine)]
+    return {k: (float(np.mean(e)), float(np.max(e))) for k, e in errs.items()}
+
+
+def _goal_error(v: dict, ref: dict, key: str) -> float:
+    if key == "profile_rms":
+        return profile_rms(v, ref)
+    if key == "hg_over_int":
+        return v[key]
+    return _error(v, ref, key, "abs" if key == "restitution" else "rel")
+
+
+def goals(data: dict | None = None) -> list[dict]:
+    """Issue 13 §1's goals, case by case and figure by figure, at 25 and 50 um: the uniform block's error
+    aimed at a node and the largest over the four aims of :data:`OFFSETS`, the resolution limit of the
+    figure at that size (:func:`resolution_limit`, mean and largest over the grid offsets), and the
+    error with the cores a study can put under its dent (:data:`GOAL_CORES`). ``verdict``: "met" (node
+    and every aim within the goal), "resolution" (missed, and a perfect element read at that size
+    would miss it too on average over where the shot lands), "element" (missed, the reading allows it)."""
+    data = _load() if data is None else data
+    rows = []
+    for h, goal in GOALS.items():
+        step = int(round(h / 6.25))
+        for case in CASES:
+            ref, _ = reference(data, case)
+            fine = data.get(f"{case}/physical/6.25")
+            uniform = data.get(f"{case}/physical/{h:g}")
+            if not ref or fine is None or uniform is None:
+                continue
+            limit = resolution_limit(fine, step)
+            aims = [data[k] for k in (offset_key(case, h, o) for o in OFFSETS) if k in data]
+            for key, tol in goal.items():
+                e = _goal_error(uniform, ref, key)
+                e_aims = [_goal_error(a, ref, key) for a in aims]
+                worst = max([abs(e)] + [abs(a) for a in e_aims])
+                lim = limit.get(key, (0.0, 0.0))
+                cores = {hc: _goal_error(c, ref, key) for hc, suffix in GOAL_CORES[h]
+                         if (c := data.get(study_core_key(case, h, hc) + suffix)) is not None}
+                verdict = "met" if worst <= tol else ("resolution" if lim[0] >= tol else "element")
+                rows.append(dict(h_um=h, case=case, figure=key, goal=tol, node=e, worst_aim=worst,
+                                 n_aims=len(aims), limit_mean=lim[0], limit_worst=lim[1], cores=cores,
+                                 verdict=verdict))
+    return rows
+
+
+def goals_table() -> None:
+    """:func:`goals` as the tables of BENCHMARKS.md 4c, "Issue 13 §1 goal by goal"."""
+    rows = goals()
+    label = {"dent_um": "dent", "dent_radius_mm": "dent radius", "sxx_peak_mpa": "σxx peak",
+             "zero_depth_mm": "zero crossing", "crest_radius_mm": "crest radius", "crest_height_um": "crest height",
+             "restitution": "restitution", "profile_rms": "profile RMS", "hg_over_int": "W_hg / W_int peak"}
+
+    def cell(key, e, signed=True):
+        if key == "restitution":
+            return f"{e:+.3f}" if signed else f"{e:.3f}"
+        if key == "hg_over_int":
+            return f"{e:.3f}"
+        return f"{100 * e:+.1f} %" if signed and key != "profile_rms" else f"{100 * abs(e):.1f} %"
+
+    for h in GOALS:
+        sub = [r for r in rows if r["h_um"] == h]
+        cores = sorted({hc for r in sub for hc in r["cores"]}, reverse=True)
+        print(f"\n#### {h:g} um: the uniform block, its resolution limit and the dent cores\n")
+        print("| case | figure | goal | uniform, node-aimed | worst of node + aims | resolution limit, mean / worst |"
+              + "".join(f" {h:g} um + {hc:g} um core |" for hc in cores) + " verdict |")
+        print("|---|---|---|---|---|---|" + "---|" * len(cores) + "---|")
+        for r in sub:
+            k = r["figure"]
+            lim = "" if k in ("restitution", "hg_over_int") else \
+                f"{100 * r['limit_mean']:.1f} / {100 * r['limit_worst']:.1f} %"
+            print(f"| {r['case']} | {label[k]} | {cell(k, r['goal'], False)} | {cell(k, r['node'])} | "
+                  f"{cell(k, r['worst_aim'], False)} ({r['n_aims']} aims) | {lim} |"
+                  + "".join(f" {cell(k, r['cores'][hc]) if hc in r['cores'] else ''} |" for hc in cores)
+                  + f" {r['verdict']} |")
+        n = {v: sum(r["verdict"] == v for r in sub) for v in ("met", "resolution", "element")}
+        print(f"\n{h:g} um: {len(sub)} (case, figure) goals: {n['met']} met, {n['resolution']} missed below the "
+              f"reading's resolution, {n['element']} missed by the element")
+        for hc in cores:
+            ok = sum(abs(r["cores"][hc]) <= r["goal"] for r in sub if hc in r["cores"])
+            have = sum(hc in r["cores"] for r in sub)
+            print(f"  with a {hc:g} um core: {ok} of {have} within the goal")
+
+
 def _load() -> dict:
     return json.loads(STORE.read_text()) if STORE.exists() else {}
 
@@ -879,6 +1001,8 @@ if __name__ == "__main__":
                   f"{r['crest_radius_bias_um']:+.1f} / {r['crest_radius_worst_um']:.1f} | {r['dent_um']:.2f} | "
                   f"{100 * r['dent_bias']:+.1f} / {100 * r['dent_worst']:+.1f} % | {r['crest_height_um']:.2f} | "
                   f"{100 * r['crest_height_bias']:+.1f} / {100 * r['crest_height_worst']:+.1f} % |")
+    elif sys.argv[1] == "goals":
+        goals_table()
     elif sys.argv[1] == "profile-bias":
         print("| 6.25 um run | its sigma_xx(z) in 25 um layers: RMS, recovered curve | lines between mid-depths |")
         print("|---|---|---|")

@@ -186,3 +186,24 @@ def test_profile_reading_on_coarser_layers_of_the_same_profile():
     for r in rows:
         assert r["recovered"] <= 0.03, r
         assert r["lines"] >= 2.0 * r["recovered"], r
+
+
+def test_goals_below_the_resolution_of_the_mesh():
+    """Which of issue 13 §1's goals no element can show at 25 / 50 um (BENCHMARKS.md 4c, "Issue 13 §1
+    goal by goal"): the converged 6.25 um fields read at that spacing (surface line at every 4th / 8th
+    node from each offset; sigma_xx averaged over 25 / 50 um layers) against themselves in full.
+    At 50 um the dent radius reads >= 8 % off on average over where the shot lands on the three SAE
+    dents and the crest radius and height on all four cases (measured 9.5-20 %, 15-23 %, 13-29 %);
+    at 25 um the crest radius >= 5 % on three of the four (6.0-8.7 %; 55 m/s normal 4.3 %), while the
+    dent depth, sigma_xx peak and zero crossing are readable to <= 2 % at 25 um: those goals are the
+    element's to meet."""
+    lim25 = {c: bh.resolution_limit(DATA[f"{c}/physical/6.25"], 4) for c in bh.CASES}
+    lim50 = {c: bh.resolution_limit(DATA[f"{c}/physical/6.25"], 8) for c in bh.CASES}
+    for c in ("sae-25-90", "sae-55-90", "sae-55-45"):
+        assert lim50[c]["dent_radius_mm"][0] >= GOAL_50["dent_radius_mm"], (c, lim50[c])
+    for c in bh.CASES:
+        assert lim50[c]["crest_radius_mm"][0] >= 0.08 and lim50[c]["crest_height_um"][0] >= 0.08, (c, lim50[c])
+        for key in ("dent_um", "sxx_peak_mpa", "zero_depth_mm"):
+            assert lim25[c][key][0] <= 0.02, (c, key, lim25[c][key])
+        assert lim25[c]["profile_rms"][0] <= 0.03, (c, lim25[c]["profile_rms"])
+    assert sum(lim25[c]["crest_radius_mm"][0] >= GOAL_25["crest_radius_mm"] for c in bh.CASES) == 3, lim25
