@@ -12,7 +12,7 @@ import subprocess
 import sys
 import time
 
-from engine_helpers import peenflow, result_files, statuses, write_toy
+from engine_helpers import live_entries, peenflow, result_files, statuses, write_toy
 
 from peenflow.engine import DirectoryStore, load_graph, plan
 from peenflow.engine.reasons import State
@@ -64,9 +64,8 @@ def test_clean_racing_a_run_never_breaks_it(tmp_path):
             cleans += "removed" in out
             # still registered after the clean (it registers once, deregisters when its points are done):
             # the run was executing through the whole clean, so its failure record must still be there
-            # (the run creates runs/ when it registers: a clean may finish before the interpreter has started)
-            runs_dir = store / "runs"
-            registered = [p for p in runs_dir.iterdir() if not p.name.startswith(".")] if runs_dir.is_dir() else []
+            # (none while runs/ does not exist: a clean may finish before the run's interpreter has started)
+            registered = live_entries(store / "runs")
             if had and registered:
                 assert failures(), out
                 spared += 1
@@ -114,13 +113,13 @@ def test_a_run_waits_for_a_running_clean(tmp_path):
     proc = subprocess.Popen([sys.executable, "-m", "peenflow.cli", "run", str(study)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     # registered (on a loaded machine the interpreter and its imports alone take seconds: poll, do not guess)
-    runs_dir, t0 = store.root / "runs", time.time()
-    while not (runs_dir.is_dir() and [p for p in runs_dir.iterdir() if not p.name.startswith(".")]):
+    t0 = time.time()
+    while not live_entries(store.root / "runs"):
         assert proc.poll() is None and time.time() - t0 < 60, "the run never registered"
         time.sleep(0.05)
     time.sleep(1.0)  # and it keeps waiting for the clean: it computes nothing
     assert proc.poll() is None and not (store.root / "results").exists()
-    assert len([p for p in runs_dir.iterdir() if not p.name.startswith(".")]) == 1
+    assert len(live_entries(store.root / "runs")) == 1
     lock.release()
     out, _ = proc.communicate(timeout=60)
     assert proc.returncode == 0 and "computed" in out

@@ -11,7 +11,7 @@ import time
 
 import pytest
 import xarray as xr
-from engine_helpers import peenflow, statuses, write_toy
+from engine_helpers import live_entries as _live, peenflow, statuses, write_toy
 
 from peenflow.engine import DirectoryStore, load_graph, plan
 
@@ -19,10 +19,6 @@ from peenflow.engine import DirectoryStore, load_graph, plan
 def _start(*args):
     return subprocess.Popen([sys.executable, "-m", "peenflow.cli", *map(str, args), "--workers", "1"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
-
-
-def _live(directory):
-    return [p for p in directory.iterdir() if not p.name.startswith(".")] if directory.exists() else []
 
 
 def _wait_for_step(store, at_least, timeout=60.0):

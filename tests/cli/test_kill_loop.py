@@ -12,7 +12,7 @@ import sys
 import time
 
 import pytest
-from engine_helpers import peenflow, write_toy
+from engine_helpers import live_entries, peenflow, write_toy
 
 from peenflow.engine import DirectoryStore, load_graph, plan
 from peenflow.engine.reasons import State
@@ -56,8 +56,7 @@ def _kill_loop(tmp_path, kills: int, seed: int):
     for name, stamp in finished.items():
         p = next(store.glob(f"results/*/{name}"))
         assert (p.stat().st_mtime_ns, p.read_bytes()) == stamp
-    live = lambda d: [p for p in (store / d).iterdir() if not p.name.startswith(".")] if (store / d).exists() else []  # noqa: E731
-    assert not live("leases") and not live("runs") and not live("checkpoints") and not live("progress")
+    assert not any(live_entries(store / d) for d in ("leases", "runs", "checkpoints", "progress"))
     reference = write_toy(tmp_path / "clean", **TOY)
     peenflow("run", reference, "--workers", "2", timeout=300)
     assert _contents(study, store) == _contents(reference, tmp_path / "clean" / ".peenflow")

@@ -36,6 +36,13 @@ def peenflow(*args, env=None, check=True, timeout=120, **kw) -> subprocess.Compl
     return proc
 
 
+def live_entries(directory: Path) -> list[Path]:
+    """The entries of a store folder (``runs/``, ``leases/``, ...) that are not being removed (a released
+    lease is renamed to a dot-name first); [] while the folder does not exist yet (it is made by the first
+    run that registers or takes a lease)."""
+    return [p for p in directory.iterdir() if not p.name.startswith(".")] if directory.exists() else []
+
+
 def result_files(store: Path) -> dict[str, bytes]:
     return {p.name: p.read_bytes() for p in sorted((store / "results").glob("*/*.nc"))}
 
