@@ -238,6 +238,32 @@ def surface_metrics(xs, us) -> dict:
                 crest_height_um=h_crest * 1e6, dent_centre_mm=xc * 1e3)
 
 
+def surface_samplings(v: dict, step: int) -> tuple[dict, list[dict]]:
+    """The surface figures (:func:`surface_metrics`) of run ``v``'s stored line in full, and of that line
+    taken at every ``step``-th node from each of the ``step`` offsets; each coarse ``dent_um`` is the dent
+    bottom on the *whole* line so sampled (a shot aimed off a node by off / step of an element; a quarter
+    line's own offsets would leave the axis out, which no quarter mesh does)."""
+    x, u = np.array(v["surface_x_mm"]) * 1e-3, np.array(v["surface_uz_um"]) * 1e-6
+    xw, uw = _whole_line(x, u)
+    coarse = []
+    for off in range(step):
+        m = surface_metrics(x[off::step], u[off::step])
+        m["dent_um"] = dent_bottom(xw[off::step], uw[off::step]) * 1e6
+        coarse.append(m)
+    return surface_metrics(x, u), coarse
+
+
+def coarse_layers(v: dict, step: int) -> dict:
+    """Run ``v``'s stored column profile averaged over groups of ``step`` layers (thickness-weighted; what
+    a one-point element ``step`` times as thick would hold), as ``profile_z_mm`` / ``profile_mpa``."""
+    edges = layer_edges(v["profile_z_mm"])
+    n = (len(edges) - 1) // step * step
+    coarse_edges = edges[: n + 1: step]
+    thick = np.diff(edges[: n + 1])
+    means = (np.array(v["profile_mpa"][:n]) * thick).reshape(-1, step).sum(1) / np.diff(coarse_edges)
+    return dict(profile_z_mm=(0.5 * (coarse_edges[1:] + coarse_edges[:-1])).tolist(), profile_mpa=means.tolist())
+
+
 def sampling_bias(data: dict, step: int = 4) -> list[dict]:
     """How far :func:`surface_metrics` reads a coarser sampling of the same surface: each stored
     6.25 um surface taken at every ``step``-th node (each offset), its dent radius and crest radius
@@ -247,19 +273,11 @@ def sampling_bias(data: dict, step: int = 4) -> list[dict]:
     for key, v in sorted(data.items()):
         if not key.endswith("/6.25") or "surface_x_mm" not in v:
             continue
-        x, u = np.array(v["surface_x_mm"]) * 1e-3, np.array(v["surface_uz_um"]) * 1e-6
-        full = surface_metrics(x, u)
-        xw, uw = _whole_line(x, u)
-        dr, cr, dd, ch = [], [], [], []
-        for off in range(step):
-            m = surface_metrics(x[off::step], u[off::step])
-            dr.append(m["dent_radius_mm"] - full["dent_radius_mm"])
-            cr.append(m["crest_radius_mm"] - full["crest_radius_mm"])
-            # the dent bottom on the whole line sampled at every step-th node from each offset: a
-            # shot aimed off a node by off / step of an element (a quarter line's own offsets would
-            # leave the axis out, which no quarter mesh does)
-            dd.append(dent_bottom(xw[off::step], uw[off::step]) * 1e6 / full["dent_um"] - 1.0)
-            ch.append(m["crest_height_um"] / full["crest_height_um"] - 1.0)
+        full, coarse = surface_samplings(v, step)
+        dr = [m["dent_radius_mm"] - full["dent_radius_mm"] for m in coarse]
+        cr = [m["crest_radius_mm"] - full["crest_radius_mm"] for m in coarse]
+        dd = [m["dent_um"] / full["dent_um"] - 1.0 for m in coarse]
+        ch = [m["crest_height_um"] / full["crest_height_um"] - 1.0 for m in coarse]
         rows.append(dict(run=key, dent_radius_mm=full["dent_radius_mm"], crest_radius_mm=full["crest_radius_mm"],
                          dent_radius_bias_um=1e3 * float(np.mean(dr)), dent_radius_worst_um=1e3 * float(np.max(np.abs(dr))),
                          crest_radius_bias_um=1e3 * float(np.mean(cr)), crest_radius_worst_um=1e3 * float(np.max(np.abs(cr))),
@@ -278,12 +296,7 @@ def profile_sampling_bias(data: dict, step: int = 4) -> list[dict]:
     for key, v in sorted(data.items()):
         if not key.endswith("/6.25") or "/physical/" not in key:
             continue
-        edges = layer_edges(v["profile_z_mm"])
-        n = (len(edges) - 1) // step * step
-        coarse_edges = edges[: n + 1 : step]
-        thick = np.diff(edges[: n + 1])
-        means = (np.array(v["profile_mpa"][:n]) * thick).reshape(-1, step).sum(1) / np.diff(coarse_edges)
-        coarse = dict(profile_z_mm=(0.5 * (coarse_edges[1:] + coarse_edges[:-1])).tolist(), profile_mpa=means.tolist())
+        coarse = coarse_layers(v, step)
         rows.append(dict(run=key, recovered=profile_rms(coarse, v), lines=profile_rms(coarse, v, "lines")))
     return rows
 
@@ -678,7 +691,6 @@ GOALS = {
 #: the cores a study can put under its dent in a block of each size (:func:`study_cores`; key suffix)
 GOAL_CORES = {25.0: ((6.25, ""),), 50.0: ((12.5, "/fine0.5"), (6.25, "/fine0.5"))}
 _SURFACE = ("dent_um", "dent_radius_mm", "crest_radius_mm", "crest_height_um")
-_PROFILE = ("sxx_peak_mpa", "zero_depth_mm", "profile_rms")
 
 
 def resolution_limit(v: dict, step: int) -> dict:
@@ -689,20 +701,10 @@ def resolution_limit(v: dict, step: int) -> dict:
     :func:`sampling_bias`); sigma_xx figures: its column profile averaged over ``step`` layers (a
     one-point element holds its element's mean, :func:`profile_sampling_bias`), read as the runs are.
     A lower bound on any element's error at that size: it is the reading's, not the element's."""
-    x, u = np.array(v["surface_x_mm"]) * 1e-3, np.array(v["surface_uz_um"]) * 1e-6
-    full = surface_metrics(x, u)
-    xw, uw = _whole_line(x, u)
-    errs: dict = {k: [] for k in _SURFACE}
-    for off in range(step):
-        m = surface_metrics(x[off::step], u[off::step])
-        m["dent_um"] = dent_bottom(xw[off::step], uw[off::step]) * 1e6
-        for k in _SURFACE:
-            errs[k].append(abs(m[k] / full[k] - 1.0))
-    edges = layer_edges(v["profile_z_mm"])
-    n = (len(edges) - 1) // step * step
-    coarse_edges = edges[: n + 1: step]
-    means = (np.array(v["profile_mpa"][:n]) * np.diff(edges[: n + 1])).reshape(-1, step).sum(1) / np.diff(coarse_edges)
-    coarse = profile_metrics(0.5 * (coarse_edges[1:] + coarse_edges[:-1]), means)
+    full, samplings = surface_samplings(v, step)
+    errs: dict = {k: [abs(m[k] / full[k] - 1.0) for m in samplings] for k in _SURFACE}
+    layers = coarse_layers(v, step)
+    coarse = profile_metrics(layers["profile_z_mm"], layers["profile_mpa"])
     fine = profile_metrics(v["profile_z_mm"], v["profile_mpa"])
     for k in ("sxx_peak_mpa", "zero_depth_mm"):
         errs[k] = [abs(coarse[k] / fine[k] - 1.0)]
@@ -715,7 +717,7 @@ def _goal_error(v: dict, ref: dict, key: str) -> float:
         return profile_rms(v, ref)
     if key == "hg_over_int":
         return v[key]
-    return _error(v, ref, key, "abs" if key == "restitution" else "rel")
+    return _error(v, ref, key, next(kind for k, _, kind in QUANTITIES if k == key))
 
 
 def goals(data: dict | None = None) -> list[dict]:

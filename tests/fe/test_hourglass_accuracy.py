@@ -202,7 +202,8 @@ def test_goals_below_the_resolution_of_the_mesh():
     for c in ("sae-25-90", "sae-55-90", "sae-55-45"):
         assert lim50[c]["dent_radius_mm"][0] >= GOAL_50["dent_radius_mm"], (c, lim50[c])
     for c in bh.CASES:
-        assert lim50[c]["crest_radius_mm"][0] >= 0.08 and lim50[c]["crest_height_um"][0] >= 0.08, (c, lim50[c])
+        for key in ("crest_radius_mm", "crest_height_um"):  # the 8 % (GOAL_50 leaves the crest out)
+            assert lim50[c][key][0] >= bh.GOALS[50.0][key], (c, key, lim50[c][key])
         for key in ("dent_um", "sxx_peak_mpa", "zero_depth_mm"):
             assert lim25[c][key][0] <= 0.02, (c, key, lim25[c][key])
         assert lim25[c]["profile_rms"][0] <= 0.03, (c, lim25[c]["profile_rms"])
