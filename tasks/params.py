@@ -28,6 +28,7 @@ import math
 import typing
 from dataclasses import dataclass, fields
 from functools import cache
+from pathlib import Path
 
 import numpy as np
 
@@ -40,7 +41,7 @@ from peenflow.study.measured_profile import MeasuredProfile
 
 __all__ = ["StageParams", "MaterialParams", "ShotParams", "FidelityParams", "DminParams", "CoverageParams",
            "StripParams", "LadderParams", "SequencesParams", "RevParams", "TargetParams", "PlateParams", "MeasuredProfile",
-           "StudyParams", "study_params"]
+           "StripSweep", "TargetPlan", "FidelityLevels", "StudyParams", "study_params"]
 
 MM = 1e-3
 UM = 1e-6
@@ -371,11 +372,69 @@ class PlateParams(StageParams):
     poisson_ratio: float
 
 
-# -- the whole study, once ------------------------------------------------------------------------------------
+# -- what the graph is built from, besides the stage parameters ---------------------------------------------
+@dataclass(frozen=True)
+class StripSweep:
+    """The strip side of the graph (``[almen]``, ``[dmin]``): what it sweeps and how it reads the strips.
+
+    ``angles_deg`` x ``velocities_m_s`` (deg, m s-1) are the control-curve points; ``seeds[k]`` is the shot
+    stream of sequence k (``sequences_cap`` of them: every sequence a point may grow to); ``shot_counts``
+    the given ladder (None: it extends itself, :class:`LadderParams`); ``dmin_angles_deg`` /
+    ``dmin_velocity_m_s`` the two-shot search's (None unless ``rev_rule`` is "dmin")."""
+
+    angles_deg: tuple[float, ...]
+    velocities_m_s: tuple[float, ...]
+    sequences_cap: int
+    seeds: tuple[int, ...]
+    shot_counts: tuple[int, ...] | None
+    saturation_fit: str
+    interpolation: str
+    rev_rule: str
+    dmin_angles_deg: tuple[float, ...] | None
+    dmin_velocity_m_s: float | None
+
+
+@dataclass(frozen=True)
+class TargetPlan:
+    """The target side of the graph (``[target]``) beyond :class:`TargetParams`: ``coverage_percent`` (%),
+    ``sequences`` REV runs with shot streams ``seeds``, the part's ``thickness_m`` and the REV's
+    ``rev_thickness_m`` (m; with ``rev_thickness_auto`` the most the convergence check may return)."""
+
+    coverage_percent: float
+    sequences: int
+    seeds: tuple[int, ...]
+    thickness_m: float
+    rev_thickness_m: float
+    rev_thickness_auto: bool
+
+
+@dataclass(frozen=True)
+class FidelityLevels:
+    """What made a result, for its fidelity statement (:func:`peenflow.study.accuracy.statement`): the
+    preset and its overrides (``describe()``), the element sizes of each level (um, as the file gives
+    them and as the measured errors are tabled), the order of an intensity extrapolation, the dent's
+    refinement and the lateral faces."""
+
+    description: str
+    element_size_um: float
+    lateral_boundary: str
+    extrapolate_intensity_from_um: float | None
+    intensity_order: float
+    dent_element_size_um: float | None
+    dent_refinement: str
+
+    def describe(self) -> str:
+        return self.description
+
+
 @dataclass(frozen=True)
 class StudyParams:
-    """Every stage parameter of a study (None where its section is absent)."""
+    """Every parameter the graph is built from (None where its section is absent): the stage
+    parameters (hashed into result keys) and what the graph sweeps, seeds and labels (not hashed)."""
 
+    #: the study's name and file (its reports go beside its store, one folder per file)
+    name: str
+    path: Path
     shot: ShotParams
     fidelity: FidelityParams
     dmin: DminParams
@@ -390,6 +449,16 @@ class StudyParams:
     target_rev: RevParams | None
     plate: PlateParams | None
     measured: MeasuredProfile | None
+    #: the strip side's sweep (None without ``[almen]``) and the target's (None without ``[target]``)
+    strips: StripSweep | None
+    target_plan: TargetPlan | None
+    #: the fidelity as its statement names it
+    levels: FidelityLevels
+    #: execution defaults (``[execution]``; None: the command line's or the machine's)
+    workers: int | None
+    threads: int | None
+    #: names a person reads in the plots: shot, strip, target material (None where absent)
+    names: dict
     #: the intensity extrapolation and its coarse level's fidelity (None without one)
     extrapolation: ExtrapolationParams | None = None
     coarse_fidelity: FidelityParams | None = None
@@ -409,7 +478,7 @@ def study_params(study) -> StudyParams:
         shot_radius_m=study.shot.radius_m, grid_points=c.grid_points, max_shots=c.max_shots,
         shot_counts=None if c.shot_counts is None else tuple(int(n) for n in c.shot_counts), sequences=c.sequences,
         seeds=tuple(study.seeds.seeds("coverage", c.sequences)), full_coverage_percent=c.full_coverage_percent)
-    strip_material = strip = strip_rev = ladder = sequences = None
+    strip_material = strip = strip_rev = ladder = sequences = strips = None
     if (a := study.almen) is not None:
         strip_material = MaterialParams.from_study(a.strip.material)
         strip = StripParams.from_study(a.strip)
@@ -419,7 +488,15 @@ def study_params(study) -> StudyParams:
         if a.sequences_adaptive:
             sequences = SequencesParams(a.sequence_tolerance_mm * MM, a.sequences, a.sequences_cap,
                                         a.saturation_fit, strip)
-    target_material = target = target_rev = plate = measured = None
+        by_dmin = a.rev_rule == "dmin"
+        strips = StripSweep(
+            angles_deg=tuple(a.angles_deg), velocities_m_s=tuple(a.velocities_m_s), sequences_cap=a.sequences_cap,
+            seeds=tuple(study.seeds.seeds("almen", a.sequences_cap)),
+            shot_counts=None if a.ladder_auto else tuple(int(n) for n in a.shot_counts),
+            saturation_fit=a.saturation_fit, interpolation=a.interpolation, rev_rule=a.rev_rule,
+            dmin_angles_deg=tuple(study.dmin.strip_angles_deg) if by_dmin else None,
+            dmin_velocity_m_s=study.dmin.strip_velocity_m_s if by_dmin else None)
+    target_material = target = target_rev = plate = measured = target_plan = None
     if (t := study.target) is not None:
         target_material = MaterialParams.from_study(t.material)
         given = t.velocity_m_s is not None
@@ -431,25 +508,37 @@ def study_params(study) -> StudyParams:
                                _mm(t.rev_size_mm), _mm(t.measure_size_mm))
         plate = PlateParams(t.thickness_m, t.material.youngs_modulus_Pa, t.material.poisson_ratio)
         measured = t.measured_profile
-    fidelity = FidelityParams.from_study(study.fidelity)
+        target_plan = TargetPlan(coverage_percent=t.coverage_percent, sequences=t.sequences,
+                                 seeds=tuple(study.seeds.seeds("target", t.sequences)), thickness_m=t.thickness_m,
+                                 rev_thickness_m=t.rev_thickness_m, rev_thickness_auto=t.rev_thickness_auto)
+    f = study.fidelity
+    fidelity = FidelityParams.from_study(f)
+    levels = FidelityLevels(f.describe(), f.element_size_um, f.lateral_boundary, f.extrapolate_intensity_from_um,
+                            f.intensity_order, f.dent_element_size_um, f.dent_refinement)
     extrapolation = coarse_fidelity = None
-    if (hc := study.fidelity.extrapolate_intensity_from_um) is not None:
-        f = study.fidelity
+    if (hc := f.extrapolate_intensity_from_um) is not None:
         extrapolation = ExtrapolationParams(hc * UM, fidelity.element_size_m, f.intensity_order,
                                             f.intensity_extrapolation_order is None)
         # computed as a study at that element size computes it, so such a study's strip results are shared
         coarse_fidelity = FidelityParams.from_study(f.model_copy(update={"element_size_um": hc}))
     dent_fidelity, dent_core = fidelity, None
-    if (hd := study.fidelity.dent_element_size_um) is not None:
-        if study.fidelity.dent_refinement == "core":  # the study's block, a core of hd under the impact
+    if (hd := f.dent_element_size_um) is not None:
+        if f.dent_refinement == "core":  # the study's block, a core of hd under the impact
             dent_core = hd * UM
         else:  # as a study at that element size computes its single impact, so the two share it
-            dent_fidelity = FidelityParams.from_study(study.fidelity.model_copy(update={"element_size_um": hd}))
-    return StudyParams(ShotParams.from_study(study.shot), fidelity,
-                       DminParams.from_study(study.dmin), strip_material, strip, strip_rev, ladder, sequences,
-                       coverage,
-                       target_material, target, target_rev, plate, measured, extrapolation, coarse_fidelity,
-                       dent_fidelity, dent_core)
+            dent_fidelity = FidelityParams.from_study(f.model_copy(update={"element_size_um": hd}))
+    ex = study.execution
+    names = {"shot": study.shot.name, "strip": a.strip.name if a is not None else None,
+             "target_material": t.material.name if t is not None else None}
+    return StudyParams(
+        name=study.name, path=Path(study.path), shot=ShotParams.from_study(study.shot), fidelity=fidelity,
+        dmin=DminParams.from_study(study.dmin), strip_material=strip_material, strip=strip, strip_rev=strip_rev,
+        ladder=ladder, sequences=sequences, coverage=coverage, target_material=target_material, target=target,
+        target_rev=target_rev, plate=plate, measured=measured, strips=strips, target_plan=target_plan,
+        levels=levels, workers=ex.workers if isinstance(ex.workers, int) else None,
+        threads=ex.threads_per_worker if isinstance(ex.threads_per_worker, int) else None, names=names,
+        extrapolation=extrapolation, coarse_fidelity=coarse_fidelity, dent_fidelity=dent_fidelity,
+        dent_core_element_size_m=dent_core)
 
 
 def _mm(value: float | None) -> float | None:

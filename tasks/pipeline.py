@@ -40,7 +40,7 @@ from .dmin import dmin
 from .headline import headline_numbers
 from .indentation import indentation
 from .intensity_extrapolation import intensity_extrapolation
-from .params import study_params
+from .params import StripSweep, StudyParams, study_params
 from .plots import write_plots
 from .report import write_report
 from .residual_profile import residual_profile
@@ -91,23 +91,26 @@ STAGES: dict[str, str] = {
 
 
 def build_graph(path) -> Graph:
-    study = load_study(path)
-    p = study_params(study)  # every stage parameter, in SI, read once
-    g = Graph(study.name)
+    """The graph of the study file at ``path``: read once into typed parameters, then :func:`graph_for`."""
+    return graph_for(study_params(load_study(path)))
+
+
+def graph_for(p: StudyParams) -> Graph:
+    """The stage graph of a study's typed parameters (it reads nothing else: the one door in)."""
+    g = Graph(p.name)
     g.coord_attrs = dict(SWEEP_COORDS)
-    g.result_attrs = fidelity_statement(study.fidelity)  # what made each result, and its measured error
+    g.result_attrs = fidelity_statement(p.levels)  # what made each result, and its measured error
     D = p.shot.diameter_m
     kernel = {"shot": p.shot, "fidelity": p.fidelity}
     control = None
 
-    if study.almen is not None:
-        almen = study.almen
+    if (strips := p.strips) is not None:
         smat = {"material": p.strip_material, **kernel}
         h = p.strip.thickness_m
-        if almen.rev_rule == "dmin":
-            angles = list(study.dmin.strip_angles_deg)
+        if strips.rev_rule == "dmin":
+            angles = list(strips.dmin_angles_deg)
             imp = g.sweep(single_impact, dims={"angle_deg": angles}, stage="strip_impact", params={
-                **smat, "velocity_m_s": study.dmin.strip_velocity_m_s,
+                **smat, "velocity_m_s": strips.dmin_velocity_m_s,
                 "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(h, IMPACT_BLOCK_D * D)})
             dm = g.sweep(dmin, dims={"angle_deg": angles}, upstream={"impact": imp}, stage="strip_dmin",
                          params={**smat, "thickness_m": h, "search": p.dmin})
@@ -119,77 +122,70 @@ def build_graph(path) -> Graph:
                     stage="strip_coverage", params={"settings": p.coverage, "coverage_percent": 100.0})
         else:
             rev = g.add(rev_size, stage="strip_rev", params={"rev": p.strip_rev})
-        sat = _strip_level(g, study, p, rev, p.fidelity)
+        sat = _strip_level(g, p, rev, p.fidelity)
         if p.extrapolation is not None:
             # the same strip runs at the coarse level (same seeds: paired), then each intensity to h -> 0
-            coarse = _strip_level(g, study, p, rev, p.coarse_fidelity, prefix="coarse_")
-            sat = g.sweep(intensity_extrapolation, dims=_strip_sweep(study), upstream={"fine": sat, "coarse": coarse},
+            coarse = _strip_level(g, p, rev, p.coarse_fidelity, prefix="coarse_")
+            sat = g.sweep(intensity_extrapolation, dims=_strip_sweep(strips), upstream={"fine": sat, "coarse": coarse},
                           params={"extrapolation": p.extrapolation})
             # a one-level result says which level made it (tasks/intensity_extrapolation.py)
-            fine_only = fidelity_statement(study.fidelity, extrapolated=False)
-            coarse_only = fidelity_statement(study.fidelity, element_size_um=study.fidelity.extrapolate_intensity_from_um)
+            fine_only = fidelity_statement(p.levels, extrapolated=False)
+            coarse_only = fidelity_statement(p.levels, element_size_um=p.levels.extrapolate_intensity_from_um)
             for stage in LEVEL_STAGES:
                 g.stage_result_attrs[stage] = fine_only
                 g.stage_result_attrs["coarse_" + stage] = coarse_only
-        control = g.add(control_curve, upstream={"sat": sat}, params={"interpolation": almen.interpolation})
+        control = g.add(control_curve, upstream={"sat": sat}, params={"interpolation": strips.interpolation})
 
-    if study.target is not None:
-        t = study.target
+    if (t := p.target_plan) is not None:
+        angle_deg = p.target.angle_deg
         tmat = {"material": p.target_material, **kernel}
-        given = t.velocity_m_s is not None
+        given = p.target.velocity_m_s is not None
         vel = g.add(target_velocity, upstream={} if given else {"control": control}, params={"target": p.target})
         # the dent's impact at its own element size (fidelity.dent_element_size_um; the study's by default)
         core = {} if p.dent_core_element_size_m is None else {"core_element_size_m": p.dent_core_element_size_m}
         imp_t = g.add(single_impact, upstream={"velocity": vel}, stage="target_impact", params={
-            **tmat, "fidelity": p.dent_fidelity, "angle_deg": t.angle_deg,
+            **tmat, "fidelity": p.dent_fidelity, "angle_deg": angle_deg,
             "half_width_m": IMPACT_BLOCK_D * D, "thickness_m": min(t.rev_thickness_m, IMPACT_BLOCK_D * D), **core})
         dent = g.add(indentation, upstream={"impact": imp_t}, stage="target_indentation")
-        if study.fidelity.dent_element_size_um is not None:
-            dent_level = fidelity_statement(study.fidelity, element_size_um=study.fidelity.dent_element_size_um,
-                                            level="dent")
+        if p.levels.dent_element_size_um is not None:
+            dent_level = fidelity_statement(p.levels, element_size_um=p.levels.dent_element_size_um, level="dent")
             for stage in DENT_STAGES:
                 g.stage_result_attrs[stage] = dent_level
         thick_up = {}
         if t.rev_thickness_auto:
             thick_up["thickness"] = g.add(rev_thickness, upstream={"velocity": vel, "dent": dent},
                                           stage="target_rev_thickness", params={
-                **tmat, "angle_deg": t.angle_deg,
+                **tmat, "angle_deg": angle_deg,
                 "half_width_m": IMPACT_BLOCK_D * D, "part_thickness_m": t.thickness_m})
         if p.target_rev.rule == "dmin":
             dm_t = g.add(dmin, upstream={"impact": imp_t}, stage="target_dmin", params={
-                **tmat, "angle_deg": t.angle_deg,
+                **tmat, "angle_deg": angle_deg,
                 "thickness_m": min(t.rev_thickness_m, 2 * IMPACT_BLOCK_D * D), "search": p.dmin})
             rev_t = g.add(rev_size, upstream={"dmin": dm_t, **thick_up}, stage="target_rev",
                           params={"rev": p.target_rev})
         else:
             rev_t = g.add(rev_size, upstream=thick_up, stage="target_rev", params={"rev": p.target_rev})
         cov = g.add(coverage_curve, upstream={"dent": dent, "rev": rev_t}, params={
-            "settings": p.coverage, "angle_deg": t.angle_deg, "coverage_percent": t.coverage_percent})
+            "settings": p.coverage, "angle_deg": angle_deg, "coverage_percent": t.coverage_percent})
         runs_t = g.sweep(target_runs, dims={"sequence": list(range(t.sequences))},
                          upstream={"rev": rev_t, "velocity": vel, "coverage": cov},
-                         params={**tmat, "angle_deg": t.angle_deg},
-                         point_params=lambda c: {"seed": study.seeds.seed("target", c["sequence"])})
+                         params={**tmat, "angle_deg": angle_deg},
+                         point_params=lambda c: {"seed": t.seeds[c["sequence"]]})
         # The release is that of a plate peened on one whole face; the stage
         # applies it only when the REV spans the part's thickness.
         g.add(residual_profile, upstream={"runs": runs_t}, params={"measured": p.measured, "free_part": p.plate})
 
-    ex = study.execution
-    g.execution = {k: v for k, v in (("workers", ex.workers), ("threads", ex.threads_per_worker))
-                   if isinstance(v, int)}
+    g.execution = {k: v for k, v in (("workers", p.workers), ("threads", p.threads)) if v is not None}
     unknown = set(g.stages) - set(STAGES)
     if unknown:  # a programming error: a stage added without its name in STAGES
         raise RuntimeError(f"stages missing from tasks.pipeline.STAGES: {sorted(unknown)}")
-    about = {"shot": study.shot.name,
-             "strip": study.almen.strip.name if study.almen is not None else None,
-             "target_material": study.target.material.name if study.target is not None else None,
-             "coverage_percent": study.target.coverage_percent if study.target is not None else None}
-    path = Path(study.path)
+    about = {**p.names, "coverage_percent": t.coverage_percent if t is not None else None}
     g.headline = headline_numbers
 
     def plots_and_report(graph, store):
-        out = report_dir(store, path)
+        out = report_dir(store, p.path)
         written = write_plots(graph, store, out, about)
-        return written + [write_report(graph, store, out, path, written)]
+        return written + [write_report(graph, store, out, p.path, written)]
 
     g.reports.append(plots_and_report)
     return g
@@ -205,29 +201,29 @@ DENT_STAGES = ("target_impact", "target_indentation")
 LEVEL_STAGES = ("strip_runs", "arc_height", "saturation")
 
 
-def _strip_sweep(study) -> dict:
-    return {"angle_deg": list(study.almen.angles_deg), "velocity_m_s": list(study.almen.velocities_m_s)}
+def _strip_sweep(strips: StripSweep) -> dict:
+    return {"angle_deg": list(strips.angles_deg), "velocity_m_s": list(strips.velocities_m_s)}
 
 
-def _strip_level(g: Graph, study, p, rev, fidelity, prefix: str = ""):
+def _strip_level(g: Graph, p: StudyParams, rev, fidelity, prefix: str = ""):
     """strip_runs -> arc_height -> saturation at one element size (``fidelity``); the saturation sweep.
 
     The same seeds at every level, so two levels see the same shot streams; the parameters are those
     of a study at that element size, so a study run at it shares these results."""
-    almen = study.almen
+    strips = p.strips
     smat = {"material": p.strip_material, "shot": p.shot, "fidelity": fidelity}
-    sweep = _strip_sweep(study)
+    sweep = _strip_sweep(strips)
     # the ladder extends itself (tasks/strip_runs.py), or a given one keeps its keys
-    ladder = {"extend": p.ladder} if p.ladder is not None else {"shot_counts": list(almen.shot_counts)}
+    ladder = {"extend": p.ladder} if p.ladder is not None else {"shot_counts": list(strips.shot_counts)}
     # adaptive sequences: each point grows its sequences until the intensity's error is small enough
     grow = None if p.sequences is None else Grow("sequence", p.sequences.start, sequences_rule(p.sequences))
-    runs = g.sweep(strip_runs, dims={**sweep, "sequence": list(range(almen.sequences_cap))}, upstream={"rev": rev},
+    runs = g.sweep(strip_runs, dims={**sweep, "sequence": list(range(strips.sequences_cap))}, upstream={"rev": rev},
                    params={**smat, **ladder}, stage=prefix + "strip_runs",
-                   point_params=lambda c: {"seed": study.seeds.seed("almen", c["sequence"])}, grow=grow)
+                   point_params=lambda c: {"seed": strips.seeds[c["sequence"]]}, grow=grow)
     arc = g.sweep(arc_height, dims=sweep, upstream={"runs": runs}, params={"strip": p.strip},
                   stage=prefix + "arc_height")
     return g.sweep(saturation, dims=sweep, upstream={"arc": arc}, stage=prefix + "saturation", params={
-        "fit": almen.saturation_fit, **({} if p.sequences is None else {"sequences": p.sequences})})
+        "fit": strips.saturation_fit, **({} if p.sequences is None else {"sequences": p.sequences})})
 
 
 def report_dir(store, study_path: Path) -> Path:
