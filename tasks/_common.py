@@ -28,13 +28,6 @@ UM = 1e-6
 MPA = 1e6
 
 
-def scalar(ds: xr.Dataset, name: str) -> float:
-    """A 0-d variable as a Python float (clear error if it is missing)."""
-    if name not in ds:
-        raise KeyError(f"upstream result has no variable {name!r}; it has {sorted(ds.data_vars)}")
-    return float(np.asarray(ds[name]).reshape(()))
-
-
 def var(values, dims=(), units: str = "1", long_name: str = "", **attrs) -> xr.Variable:
     """An ``xr.Variable`` with CF ``units`` and ``long_name`` (both stored on every variable).
 

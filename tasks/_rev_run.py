@@ -30,10 +30,33 @@ from peenflow.methods import VOIGT, average_over_region, doubling_ladder, ladder
 from . import _kernel as K
 from ._common import COMPONENT_LONG_NAME, depth, labels, var
 from .arc_height import release
+from .outputs import Output, Outputs
 from .params import FidelityParams, LadderParams, MaterialParams, ShotParams
 from .saturation import MODELS
 
 CHECKPOINT_EVERY_S = float(os.environ.get("PEENFLOW_CHECKPOINT_EVERY_S", "30"))
+
+#: what a REV run gives (``strip_runs`` as it is; ``target_runs`` derives its own from it)
+RUN = Outputs(
+    "rev_run",
+    stress_mean_Pa=Output(("shots", "layer", "component"), "Pa", "residual stress averaged over the measuring region"),
+    stress_spread_Pa=Output(("shots", "layer", "component"), "Pa", "lateral std over the region"),
+    stress_xx_Pa=Output(("shots", "layer"), "Pa", "sigma_xx profile"),
+    stress_yy_Pa=Output(("shots", "layer"), "Pa", "sigma_yy profile"),
+    plastic_strain_mean=Output(("shots", "layer"), "1", "equivalent plastic strain averaged over the measuring region"),
+    restitution=Output(("impact",), "1", "coefficient of restitution per impact, in arrival order"),
+    peak_force_N=Output(("impact",), "N", "peak contact force per impact"),
+    energy_error=Output(("impact",), "1", "energy balance error / impact energy"),
+    hourglass_peak=Output(("impact",), "1", "peak hourglass energy of the impact / impact energy (large on a mesh "
+                                            "too coarse for the dent)"),
+    ladder_saturated=Output((), "1", "1 if the ladder stopped with eq. (11)'s point T inside its data (a rung at "
+                                     ">= 2 T), 0 if it stopped at almen.max_shots or T fell below the first rung",
+                            optional=True,
+                            attrs={"flag_values": np.array([0, 1]), "flag_meanings": "not_saturated saturated"}),
+    ladder_saturation_shots=Output((), "1", "saturation point T of this sequence's own rungs, the stop rule's",
+                                   optional=True),
+    hit_fraction=Output((), "1", "fraction of shots that touched the REV"),
+)
 
 
 def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: FidelityParams, side_m: float,
@@ -125,14 +148,8 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
 
     ladder_vars = {}
     if extend:
-        ladder_vars = {
-            "ladder_saturated": var(int(verdict.saturated), (), "1",
-                                    "1 if the ladder stopped with eq. (11)'s point T inside its data (a rung at "
-                                    ">= 2 T), 0 if it stopped at almen.max_shots or T fell below the first rung",
-                                    flag_values=np.array([0, 1]), flag_meanings="not_saturated saturated"),
-            "ladder_saturation_shots": var(verdict.saturation_shots, (), "1",
-                                           "saturation point T of this sequence's own rungs, the stop rule's"),
-        }
+        ladder_vars = {"ladder_saturated": int(verdict.saturated),
+                       "ladder_saturation_shots": verdict.saturation_shots}
         stop_reason = {"ladder_stop_reason": verdict.reason if verdict.stop else
                        f"stopped at the cap almen.max_shots = {run[-1]}: {verdict.reason}"}
     else:
@@ -140,25 +157,12 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
     mean = np.array([means[n] for n in run])
     spread = np.array([spreads[n] for n in run])
     hit = records["hit"]
-    return xr.Dataset(
-        {
-            "stress_mean_Pa": var(mean, ("shots", "layer", "component"), "Pa",
-                                  "residual stress averaged over the measuring region"),
-            "stress_spread_Pa": var(spread, ("shots", "layer", "component"), "Pa", "lateral std over the region"),
-            "stress_xx_Pa": var(mean[:, :, 0], ("shots", "layer"), "Pa", "sigma_xx profile"),
-            "stress_yy_Pa": var(mean[:, :, 1], ("shots", "layer"), "Pa", "sigma_yy profile"),
-            "plastic_strain_mean": var(np.array([plastic[n] for n in run]), ("shots", "layer"), "1",
-                                       "equivalent plastic strain averaged over the measuring region"),
-            "restitution": var(records["restitution"], ("impact",), "1",
-                               "coefficient of restitution per impact, in arrival order"),
-            "peak_force_N": var(records["peak_force"], ("impact",), "N", "peak contact force per impact"),
-            "energy_error": var(records["energy_error"], ("impact",), "1", "energy balance error / impact energy"),
-            "hourglass_peak": var(records["hourglass_peak"], ("impact",), "1",
-                                  "peak hourglass energy of the impact / impact energy (large on a mesh too "
-                                  "coarse for the dent: BENCHMARKS.md 4b)"),
-            **ladder_vars,
-            "hit_fraction": var(float(hit.mean()) if hit.size else 0.0, (), "1", "fraction of shots that touched the REV"),
-        },
+    return RUN.dataset(
+        {"stress_mean_Pa": mean, "stress_spread_Pa": spread, "stress_xx_Pa": mean[:, :, 0],
+         "stress_yy_Pa": mean[:, :, 1], "plastic_strain_mean": np.array([plastic[n] for n in run]),
+         "restitution": records["restitution"], "peak_force_N": records["peak_force"],
+         "energy_error": records["energy_error"], "hourglass_peak": records["hourglass_peak"], **ladder_vars,
+         "hit_fraction": float(hit.mean()) if hit.size else 0.0},
         coords={"shots": var(np.array(run), ("shots",), "1", "number of shots N (rung of the ladder)"),
                 "component": labels(VOIGT, "component", COMPONENT_LONG_NAME),
                 "z_edge_m": depth(z_edges, "z_edge", "layer boundary depth below the peened surface"),

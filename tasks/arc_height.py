@@ -15,7 +15,15 @@ import xarray as xr
 from peenflow.methods import DepthProfile, release_strip
 
 from ._common import peening_task, var
+from .outputs import Output, Outputs
 from .params import StripParams
+
+OUTPUTS = Outputs(
+    "arc_height",
+    arc_height_m=Output(("sequence", "shots"), "m", "arc height over the gauge span (eq. 9)"),
+    clamp_force_N=Output(("sequence", "shots"), "N", "F_x held by the fixture (eq. 6)"),
+    clamp_moment_Nm=Output(("sequence", "shots"), "N m", "M_y about the strip mid-plane (eq. 7)"),
+)
 
 
 @peening_task(version="2")  # 2: arc heights stored in m (was mm)
@@ -34,13 +42,8 @@ def arc_height(runs: xr.Dataset, *, strip: StripParams, angle_deg: float | None 
         z_edges = z_edges.reshape(-1, z_edges.shape[-1])[0]
     sxx = runs.stress_xx_Pa.transpose("sequence", "shots", "layer").values
     ah, force, moment = np.array([rung_releases(z_edges, seq, strip) for seq in sxx]).transpose(1, 0, 2)
-    dims = ("sequence", "shots")
-    return xr.Dataset(
-        {
-            "arc_height_m": var(ah, dims, "m", "arc height over the gauge span (eq. 9)"),
-            "clamp_force_N": var(force, dims, "N", "F_x held by the fixture (eq. 6)"),
-            "clamp_moment_Nm": var(moment, dims, "N m", "M_y about the strip mid-plane (eq. 7)"),
-        },
+    return OUTPUTS.dataset(
+        {"arc_height_m": ah, "clamp_force_N": force, "clamp_moment_Nm": moment},
         coords={"sequence": var(runs.sequence.values, ("sequence",), "1", "random shot sequence number"),
                 "shots": var(runs.shots.values, ("shots",), "1", "number of shots N")},
         attrs={"strip_thickness_m": strip.thickness_m, "gauge_span_m": strip.gauge_span_m},

@@ -8,6 +8,24 @@ import xarray as xr
 from peenflow.methods import ControlCurve
 
 from ._common import SWEEP_COORDS, peening_task, var
+from .outputs import Output, Outputs
+
+_AV = ("angle_deg", "velocity_m_s")
+
+OUTPUTS = Outputs(
+    "control_curve",
+    intensity_m=Output(_AV, "m", "Almen intensity"),
+    intensity_std_m=Output(_AV, "m", "spread over sequences"),
+    curve_intensity_m=Output(("angle_deg", "velocity_fine_m_s"), "m",
+                             "interpolant of the control curve (attribute interpolation)"),
+    monotone_increasing=Output(("angle_deg",), "1", "1 if intensity rises with velocity",
+                               attrs={"flag_values": np.array([0, 1]), "flag_meanings": "not_increasing increasing"}),
+    intensity_extrapolated=Output(_AV, "1", "1 if the saturation point lies outside the shot ladder",
+                                  attrs={"flag_values": np.array([0, 1]),
+                                         "flag_meanings": "within_ladder extrapolated"}),
+    saturation_shots=Output(_AV, "1", "saturation point T, eq. (11)"),
+    largest_shot_count=Output((), "1", "end of the saturation ladder (shots)"),
+)
 
 
 @peening_task(version="3")  # 3: intensities stored in m (was mm)
@@ -18,7 +36,7 @@ def control_curve(sat: xr.Dataset, *, interpolation: str) -> xr.Dataset:
     (``interpolation``: "pchip" or "linear", the one ``target_velocity``
     inverts) sampled on a fine velocity grid.
     """
-    table = sat.intensity_m.transpose("angle_deg", "velocity_m_s")
+    table = sat.intensity_m.transpose(*_AV)
     v = sat.velocity_m_s.values.astype(float)
     fine = np.linspace(v.min(), v.max(), 61) if v.size > 1 else v.copy()
     curves = np.full((table.shape[0], fine.size), np.nan)
@@ -31,23 +49,12 @@ def control_curve(sat: xr.Dataset, *, interpolation: str) -> xr.Dataset:
             inside = (fine >= v[ok][0]) & (fine <= v[ok][-1])
             curves[i, inside] = curve.intensity(fine[inside])
             increasing[i] = int(curve.is_increasing)
-    return xr.Dataset(
-        {
-            "intensity_m": var(table.values, ("angle_deg", "velocity_m_s"), "m", "Almen intensity"),
-            "intensity_std_m": var(sat.intensity_std_m.transpose("angle_deg", "velocity_m_s").values,
-                                   ("angle_deg", "velocity_m_s"), "m", "spread over sequences"),
-            "curve_intensity_m": var(curves, ("angle_deg", "velocity_fine_m_s"), "m",
-                                      f"{interpolation} interpolant of the control curve"),
-            "monotone_increasing": var(increasing, ("angle_deg",), "1", "1 if intensity rises with velocity",
-                                       flag_values=np.array([0, 1]), flag_meanings="not_increasing increasing"),
-            "intensity_extrapolated": var(
-                sat.intensity_extrapolated.transpose("angle_deg", "velocity_m_s").values.astype(int),
-                ("angle_deg", "velocity_m_s"), "1", "1 if the saturation point lies outside the shot ladder",
-                flag_values=np.array([0, 1]), flag_meanings="within_ladder extrapolated"),
-            "saturation_shots": var(sat.saturation_shots.transpose("angle_deg", "velocity_m_s").values,
-                                    ("angle_deg", "velocity_m_s"), "1", "saturation point T, eq. (11)"),
-            "largest_shot_count": var(float(sat.shots.values.max()), (), "1", "end of the saturation ladder (shots)"),
-        },
+    return OUTPUTS.dataset(
+        {"intensity_m": table.values, "intensity_std_m": sat.intensity_std_m.transpose(*_AV).values,
+         "curve_intensity_m": curves, "monotone_increasing": increasing,
+         "intensity_extrapolated": sat.intensity_extrapolated.transpose(*_AV).values.astype(int),
+         "saturation_shots": sat.saturation_shots.transpose(*_AV).values,
+         "largest_shot_count": float(sat.shots.values.max())},
         coords={"angle_deg": var(table.angle_deg.values, ("angle_deg",), **SWEEP_COORDS["angle_deg"]),
                 "velocity_m_s": var(v, ("velocity_m_s",), **SWEEP_COORDS["velocity_m_s"]),
                 "velocity_fine_m_s": var(fine, ("velocity_fine_m_s",), "m s-1",

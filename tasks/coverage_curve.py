@@ -21,17 +21,37 @@ from peenflow.methods import (DentEllipse, expected_coverage_uniform, fit_avrami
                               shot_stream)
 from peenflow.methods.coverage import coverage_curves
 
-from ._common import peening_task, scalar, var
+from ._common import peening_task, var
+from .indentation import OUTPUTS as DENT
+from .outputs import Output, Outputs
 from .params import CoverageParams
+from .rev_size import OUTPUTS as REV
+
+OUTPUTS = Outputs(
+    "coverage_curve",
+    coverage_percent=Output(("sequence", "shots"), "%", "Monte-Carlo coverage of the measuring region"),
+    coverage_mean_percent=Output(("shots",), "%", "Monte-Carlo coverage, mean over sequences"),
+    avrami_coverage_percent=Output(("shots",), "%", "coverage by the eq. (5) fit"),
+    uniform_closed_form_percent=Output(("shots",), "%",
+                                       "closed form for uniform landings, 100 (1 - (1 - A_dent/A_peen)^N)"),
+    avrami_rate=Output((), "1", "A of eq. (5), per shot"),
+    avrami_residual_rms_percent=Output((), "%", "RMS residual of the eq. (5) fit"),
+    full_coverage_shots=Output((), "1", "N_f: shots for full coverage (attribute full_coverage_percent)"),
+    coverage_shots=Output((), "1", "N_c: shots for the target coverage (attribute target_coverage_percent)"),
+    coverage_shots_rounded=Output((), "1", "N_c rounded up to whole shots"),
+    dent_area_m2=Output((), "m2", "dent ellipse area"),
+    peening_area_m2=Output((), "m2", "area the shots land on (REV top surface)"),
+)
 
 
 def dent_from_dataset(ds: xr.Dataset) -> DentEllipse:
+    """The dent ellipse of an ``indentation`` result."""
     return DentEllipse(
-        centre_x=scalar(ds, "dent_centre_x_m"), centre_y=scalar(ds, "dent_centre_y_m"),
-        impact_x=scalar(ds, "impact_x_m"), impact_y=scalar(ds, "impact_y_m"),
-        semi_axis_along=scalar(ds, "dent_semi_axis_along_m"),
-        semi_axis_across=scalar(ds, "dent_semi_axis_across_m"),
-        depth=scalar(ds, "dent_depth_m"), pileup_height=scalar(ds, "pileup_height_m"),
+        centre_x=DENT.dent_centre_x_m.read(ds), centre_y=DENT.dent_centre_y_m.read(ds),
+        impact_x=DENT.impact_x_m.read(ds), impact_y=DENT.impact_y_m.read(ds),
+        semi_axis_along=DENT.dent_semi_axis_along_m.read(ds),
+        semi_axis_across=DENT.dent_semi_axis_across_m.read(ds),
+        depth=DENT.dent_depth_m.read(ds), pileup_height=DENT.pileup_height_m.read(ds),
     )
 
 
@@ -44,8 +64,8 @@ def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, cover
     grid_points, max_shots, shot_counts, sequences = c.grid_points, c.max_shots, c.shot_counts, c.sequences
     full_coverage_percent = c.full_coverage_percent
     ellipse = dent_from_dataset(dent)
-    side = scalar(rev, "rev_side_m")
-    measure = scalar(rev, "measure_side_m")
+    side = REV.rev_side_m.read(rev)
+    measure = REV.measure_side_m.read(rev)
     half = 0.5 * side
     region = (-0.5 * measure, 0.5 * measure, -0.5 * measure, 0.5 * measure)
     gx, gy = measuring_grid(region, grid_points)
@@ -63,21 +83,13 @@ def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, cover
     fit = fit_avrami(counts, cov, full_coverage_percent)
     n_f = fit.full_coverage_shots
     n_c = fit.shots_for_coverage(coverage_percent)
-    return xr.Dataset(
-        {
-            "coverage_percent": var(cov, ("sequence", "shots"), "%", "Monte-Carlo coverage of the measuring region"),
-            "coverage_mean_percent": var(cov.mean(axis=0), ("shots",), "%", "Monte-Carlo coverage, mean over sequences"),
-            "avrami_coverage_percent": var(fit.coverage_at(counts), ("shots",), "%", "coverage by the eq. (5) fit"),
-            "uniform_closed_form_percent": var(expected_coverage_uniform(counts, ellipse.area, side ** 2),
-                                               ("shots",), "%", "closed form for uniform landings, 100 (1 - (1 - A_dent/A_peen)^N)"),
-            "avrami_rate": var(fit.rate, (), "1", "A of eq. (5), per shot"),
-            "avrami_residual_rms_percent": var(fit.residual_rms, (), "%", "RMS residual of the eq. (5) fit"),
-            "full_coverage_shots": var(n_f, (), "1", f"N_f: shots for {full_coverage_percent:g} % coverage"),
-            "coverage_shots": var(n_c, (), "1", f"N_c: shots for {coverage_percent:g} % coverage"),
-            "coverage_shots_rounded": var(int(math.ceil(n_c)), (), "1", "N_c rounded up to whole shots"),
-            "dent_area_m2": var(ellipse.area, (), "m2", "dent ellipse area"),
-            "peening_area_m2": var(side ** 2, (), "m2", "area the shots land on (REV top surface)"),
-        },
+    return OUTPUTS.dataset(
+        {"coverage_percent": cov, "coverage_mean_percent": cov.mean(axis=0),
+         "avrami_coverage_percent": fit.coverage_at(counts),
+         "uniform_closed_form_percent": expected_coverage_uniform(counts, ellipse.area, side ** 2),
+         "avrami_rate": fit.rate, "avrami_residual_rms_percent": fit.residual_rms, "full_coverage_shots": n_f,
+         "coverage_shots": n_c, "coverage_shots_rounded": int(math.ceil(n_c)), "dent_area_m2": ellipse.area,
+         "peening_area_m2": side ** 2},
         coords={"sequence": var(np.arange(len(landings)), ("sequence",), "1", "random landing sequence number"),
                 "shots": var(counts, ("shots",), "1", "number of shots N")},
         attrs={"target_coverage_percent": coverage_percent, "full_coverage_percent": full_coverage_percent,

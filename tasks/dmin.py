@@ -26,7 +26,20 @@ from peenflow.methods import (bracket_from_radius, find_dmin, regions_overlap, s
 
 from . import _kernel as K
 from ._common import peening_task, var
+from .outputs import Output, Outputs
 from .params import DminParams, FidelityParams, MaterialParams, ShotParams
+from .single_impact import OUTPUTS as IMPACT
+
+OUTPUTS = Outputs(
+    "dmin",
+    d_min_m=Output((), "m", "smallest separation without interaction (eq. 4)"),
+    resolution_m=Output((), "m", "d_min is within this above the true value"),
+    bracket_lower_m=Output((), "m", "lower end of the final bisection bracket"),
+    bracket_upper_m=Output((), "m", "upper end of the final bisection bracket"),
+    single_region_radius_m=Output((), "m", "eq. (4) region radius of one impact"),
+    overlap=Output(("run",), "1", "1 if the regions touch",
+                   attrs={"flag_values": np.array([0, 1]), "flag_meanings": "separate touching"}),
+)
 
 
 def two_shot_surface(material: MaterialParams, shot: ShotParams, fidelity: FidelityParams, speed, angle_deg, d,
@@ -62,7 +75,7 @@ def dmin(impact: xr.Dataset, *, material: MaterialParams, shot: ShotParams, fide
     min_distance_m, max_distance_m, method = search.min_distance_m, search.max_distance_m, search.method
     velocity_m_s = float(impact.attrs["velocity_m_s"])
     radius = single_impact_region_radius(impact.x_cell_full.values, impact.y_cell_full.values,
-                                         impact.surface_von_mises_Pa.values, (0.0, 0.0), threshold)
+                                         IMPACT.surface_von_mises_Pa.read(impact), (0.0, 0.0), threshold)
     lower, upper = bracket_from_radius(radius)
     lower = float(np.clip(lower, min_distance_m, max_distance_m))
     upper = float(np.clip(upper, lower + resolution_m, max_distance_m))
@@ -95,16 +108,10 @@ def dmin(impact: xr.Dataset, *, material: MaterialParams, shot: ShotParams, fide
     else:
         found = find_dmin(overlaps, lower, upper, resolution_m, floor=min_distance_m)
     runs = sorted(done)
-    return xr.Dataset(
-        {
-            "d_min_m": var(found.d_min, (), "m", "smallest separation without interaction (eq. 4)"),
-            "resolution_m": var(found.resolution, (), "m", "d_min is within this above the true value"),
-            "bracket_lower_m": var(found.lower, (), "m", "lower end of the final bisection bracket"),
-            "bracket_upper_m": var(found.upper, (), "m", "upper end of the final bisection bracket"),
-            "single_region_radius_m": var(radius, (), "m", "eq. (4) region radius of one impact"),
-            "overlap": var(np.array([int(done[d]) for d in runs]), ("run",), "1", "1 if the regions touch",
-                           flag_values=np.array([0, 1]), flag_meanings="separate touching"),
-        },
+    return OUTPUTS.dataset(
+        {"d_min_m": found.d_min, "resolution_m": found.resolution, "bracket_lower_m": found.lower,
+         "bracket_upper_m": found.upper, "single_region_radius_m": radius,
+         "overlap": np.array([int(done[d]) for d in runs])},
         coords={"distance_m": var(np.array(runs), ("run",), "m", "two-shot separation of the run")},
         attrs={"angle_deg": angle_deg, "velocity_m_s": velocity_m_s, "threshold": threshold, "method": method},
     )

@@ -21,7 +21,26 @@ import xarray as xr
 from peenflow.methods import paired_correction
 
 from ._common import peening_task, var
+from .outputs import Output, Outputs
 from .params import ExtrapolationParams
+from .saturation import OUTPUTS as SATURATION
+
+#: the saturation stage's outputs the control curve reads, with their names and meaning, and the two levels'
+OUTPUTS = Outputs(
+    "intensity_extrapolation",
+    intensity_m=Output((), "m", "Almen intensity extrapolated to zero element size (paired two-level)"),
+    fine_intensity_m=Output((), "m", "Almen intensity at the fine level (eq. 11)"),
+    coarse_intensity_m=Output((), "m", "Almen intensity at the coarse level (eq. 11)"),
+    mesh_correction_m=Output((), "m", "k times the mean paired fine-minus-coarse per-sequence intensity"),
+    mesh_correction_standard_error_m=Output((), "m", "standard error of that correction (NaN from one pair)"),
+    paired_sequences=Output((), "1", "sequences with an intensity at both levels"),
+    intensity_std_m=Output((), "m", "spread over sequences at the fine level (ddof=1)"),
+    saturation_shots=Output((), "1", "saturation point T at the fine level: N solving Ah(2N) = 1.1 Ah(N)"),
+    coarse_saturation_shots=Output((), "1", "saturation point T at the coarse level"),
+    intensity_extrapolated=Output((), "1", "1 if the saturation point lies outside the shot ladder at either level",
+                                  attrs={"flag_values": np.array([0, 1]),
+                                         "flag_meanings": "within_ladder extrapolated"}),
+)
 
 
 @peening_task(version="1")
@@ -32,30 +51,19 @@ def intensity_extrapolation(fine: xr.Dataset, coarse: xr.Dataset, *, extrapolati
     variables the control curve reads (intensity_m, intensity_std_m, intensity_extrapolated,
     saturation_shots, shots) have the saturation stage's names and meaning."""
     e = extrapolation
-    per = [dict(zip(ds.sequence.values.tolist(), ds.sequence_intensity_m.values.ravel().tolist())) for ds in (fine, coarse)]
+    per = [dict(zip(ds.sequence.values.tolist(), SATURATION.sequence_intensity_m.read(ds).ravel().tolist()))
+           for ds in (fine, coarse)]
     c = paired_correction(*per, e.coarse_element_size_m, e.fine_element_size_m, e.order)
-    i_fine = float(fine.intensity_m)
+    i_fine = SATURATION.intensity_m.read(fine)
     # eq. (11) outside the ladder at either level makes the extrapolated value as uncertain
-    beyond = max(int(fine.intensity_extrapolated), int(coarse.intensity_extrapolated))
-    return xr.Dataset(
-        {
-            "intensity_m": var(i_fine + c.correction, (), "m",
-                               "Almen intensity extrapolated to zero element size (paired two-level)"),
-            "fine_intensity_m": var(i_fine, (), "m", "Almen intensity at the fine level (eq. 11)"),
-            "coarse_intensity_m": var(float(coarse.intensity_m), (), "m", "Almen intensity at the coarse level (eq. 11)"),
-            "mesh_correction_m": var(c.correction, (), "m",
-                                     "k times the mean paired fine-minus-coarse per-sequence intensity"),
-            "mesh_correction_standard_error_m": var(c.standard_error, (), "m",
-                                                    "standard error of that correction (NaN from one pair)"),
-            "paired_sequences": var(c.pairs, (), "1", "sequences with an intensity at both levels"),
-            "intensity_std_m": var(float(fine.intensity_std_m), (), "m", "spread over sequences at the fine level (ddof=1)"),
-            "saturation_shots": var(float(fine.saturation_shots), (), "1",
-                                    "saturation point T at the fine level: N solving Ah(2N) = 1.1 Ah(N)"),
-            "coarse_saturation_shots": var(float(coarse.saturation_shots), (), "1", "saturation point T at the coarse level"),
-            "intensity_extrapolated": var(beyond, (), "1",
-                                          "1 if the saturation point lies outside the shot ladder at either level",
-                                          flag_values=np.array([0, 1]), flag_meanings="within_ladder extrapolated"),
-        },
+    beyond = max(int(SATURATION.intensity_extrapolated.read(level)) for level in (fine, coarse))
+    return OUTPUTS.dataset(
+        {"intensity_m": i_fine + c.correction, "fine_intensity_m": i_fine,
+         "coarse_intensity_m": SATURATION.intensity_m.read(coarse), "mesh_correction_m": c.correction,
+         "mesh_correction_standard_error_m": c.standard_error, "paired_sequences": c.pairs,
+         "intensity_std_m": SATURATION.intensity_std_m.read(fine),
+         "saturation_shots": SATURATION.saturation_shots.read(fine),
+         "coarse_saturation_shots": SATURATION.saturation_shots.read(coarse), "intensity_extrapolated": beyond},
         coords={"shots": var(fine.shots.values, ("shots",), "1", "number of shots N (the fine level's ladder)")},
         attrs={"extrapolation": e.describe(), "extrapolation_factor": c.factor,
                "coarse_element_size_m": e.coarse_element_size_m, "fine_element_size_m": e.fine_element_size_m,

@@ -28,7 +28,46 @@ import xarray as xr
 from peenflow.methods import DepthProfile, equilibrium_residual
 
 from ._common import depth as depth_coord, peening_task, var
+from .outputs import Output, Outputs
 from .params import MeasuredProfile, PlateParams
+
+
+def _per_component() -> dict:
+    out = {}
+    for c in ("xx", "yy"):
+        out.update({
+            f"stress_{c}_Pa": Output(("sequence", "layer"), "Pa", f"sigma_{c} per sequence"),
+            f"stress_{c}_mean_Pa": Output(("layer",), "Pa", f"mean sigma_{c}"),
+            f"stress_{c}_spread_Pa": Output(("layer",), "Pa", "std over sequences"),
+            f"peak_compressive_{c}_Pa": Output((), "Pa", f"most compressive mean sigma_{c}"),
+            f"peak_compressive_{c}_depth_m": Output((), "m", f"depth of the most compressive mean sigma_{c}"),
+            # the free part: only when the REV spans the part's thickness
+            f"stress_{c}_free_mean_Pa": Output(("layer",), "Pa", f"mean sigma_{c} of the free part (membrane force "
+                                               "and bending moment released)", optional=True),
+            f"bow_curvature_{c}_1_per_m": Output((), "m-1", "curvature of the free part, positive when the peened "
+                                                 "face is convex", optional=True),
+            f"free_relative_force_{c}": Output((), "1", "|∫σ dz| / ∫|σ| dz of the free part (0 = equilibrium)",
+                                               optional=True),
+            f"free_relative_moment_{c}": Output((), "1", "|∫σ (z-H/2) dz| / ∫|σ||z-H/2| dz of the free part",
+                                                optional=True),
+        })
+    return out
+
+
+#: the measured profile's comparison: only when the study gives one
+_MEASURED = {
+    "measured_stress_Pa": Output(("measured_point",), "Pa", "measured residual stress", optional=True),
+    "measured_component": Output(("measured_point",), "1", "stress component of the measurement", optional=True,
+                                 attrs={"flag_values": np.array([0, 1], dtype=np.int8),
+                                        "flag_meanings": "sigma_xx sigma_yy"}),
+    "predicted_at_measured_Pa": Output(("measured_point",), "Pa", "predicted mean stress of the same component at "
+                                       "the measured depth", optional=True),
+    "rms_difference_Pa": Output((), "Pa", "RMS of predicted - measured", optional=True),
+    "measured_peak_compressive_Pa": Output((), "Pa", "most compressive measured stress", optional=True),
+    "measured_peak_depth_m": Output((), "m", "depth of the most compressive measured stress", optional=True),
+}
+
+OUTPUTS = Outputs("residual_profile", **_per_component(), **_MEASURED)
 
 
 def _peak(depth, values):
@@ -78,13 +117,10 @@ def residual_profile(runs: xr.Dataset, *, measured: MeasuredProfile | None = Non
     for c in ("xx", "yy"):
         s = runs[f"stress_{c}_Pa"].transpose("sequence", "layer").values
         means[c] = s.mean(axis=0)
-        out[f"stress_{c}_Pa"] = var(s, ("sequence", "layer"), "Pa", f"sigma_{c} per sequence")
-        out[f"stress_{c}_mean_Pa"] = var(means[c], ("layer",), "Pa", f"mean sigma_{c}")
-        spread = s.std(axis=0, ddof=1) if s.shape[0] > 1 else np.zeros(s.shape[1])
-        out[f"stress_{c}_spread_Pa"] = var(spread, ("layer",), "Pa", "std over sequences")
-        peak, at = _peak(depth, means[c])
-        out[f"peak_compressive_{c}_Pa"] = var(peak, (), "Pa", f"most compressive mean sigma_{c}")
-        out[f"peak_compressive_{c}_depth_m"] = var(at, (), "m", f"depth of the most compressive mean sigma_{c}")
+        out[f"stress_{c}_Pa"] = s
+        out[f"stress_{c}_mean_Pa"] = means[c]
+        out[f"stress_{c}_spread_Pa"] = s.std(axis=0, ddof=1) if s.shape[0] > 1 else np.zeros(s.shape[1])
+        out[f"peak_compressive_{c}_Pa"], out[f"peak_compressive_{c}_depth_m"] = _peak(depth, means[c])
     coords = {"sequence": var(runs.sequence.values, ("sequence",), "1", "random shot sequence number"),
               "depth_m": depth_coord(depth, "layer", "layer mid-depth below the peened surface")}
     attrs = {"measured_profile": "none", "free_part": "no (the REV is thinner than the part)"}
@@ -92,15 +128,10 @@ def residual_profile(runs: xr.Dataset, *, measured: MeasuredProfile | None = Non
     if free_part and abs(z_edges[-1] - free_part.thickness_m) <= 1e-9 * free_part.thickness_m:
         released, bow, balance = _free_plate(z_edges, means, free_part)
         for c in ("xx", "yy"):
-            out[f"stress_{c}_free_mean_Pa"] = var(
-                released[c], ("layer",), "Pa",
-                f"mean sigma_{c} of the free part (membrane force and bending moment released)")
-            out[f"bow_curvature_{c}_1_per_m"] = var(
-                bow[c], (), "m-1", "curvature of the free part, positive when the peened face is convex")
-            out[f"free_relative_force_{c}"] = var(
-                balance[c].relative_force, (), "1", "|∫σ dz| / ∫|σ| dz of the free part (0 = equilibrium)")
-            out[f"free_relative_moment_{c}"] = var(
-                balance[c].relative_moment, (), "1", "|∫σ (z-H/2) dz| / ∫|σ||z-H/2| dz of the free part")
+            out[f"stress_{c}_free_mean_Pa"] = released[c]
+            out[f"bow_curvature_{c}_1_per_m"] = bow[c]
+            out[f"free_relative_force_{c}"] = balance[c].relative_force
+            out[f"free_relative_moment_{c}"] = balance[c].relative_moment
         attrs["free_part"] = f"plate {free_part.thickness_m * 1e3:g} mm thick, released"
     if measured:
         md = np.asarray(measured.depth_m, dtype=float)
@@ -113,17 +144,11 @@ def residual_profile(runs: xr.Dataset, *, measured: MeasuredProfile | None = Non
             ours[at] = np.interp(md[at], depth, means[c])
         coords["measured_point"] = var(np.arange(md.size), ("measured_point",), "1", "measured point number")
         coords["measured_depth_m"] = depth_coord(md, "measured_point", "depth of the measured point")
-        out["measured_stress_Pa"] = var(ms, ("measured_point",), "Pa", "measured residual stress")
-        out["measured_component"] = var((comp == "yy").astype(np.int8), ("measured_point",), "1",
-                                        "stress component of the measurement",
-                                        flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="sigma_xx sigma_yy")
-        out["predicted_at_measured_Pa"] = var(ours, ("measured_point",), "Pa",
-                                               "predicted mean stress of the same component at the measured depth")
-        out["rms_difference_Pa"] = var(float(np.sqrt(np.mean((ours - ms) ** 2))), (), "Pa",
-                                        "RMS of predicted - measured")
-        mpeak, mat = _peak(md, ms)
-        out["measured_peak_compressive_Pa"] = var(mpeak, (), "Pa", "most compressive measured stress")
-        out["measured_peak_depth_m"] = var(mat, (), "m", "depth of the most compressive measured stress")
+        out["measured_stress_Pa"] = ms
+        out["measured_component"] = (comp == "yy").astype(np.int8)
+        out["predicted_at_measured_Pa"] = ours
+        out["rms_difference_Pa"] = float(np.sqrt(np.mean((ours - ms) ** 2)))
+        out["measured_peak_compressive_Pa"], out["measured_peak_depth_m"] = _peak(md, ms)
         counts = ", ".join(f"{int((comp == c).sum())} sigma_{c}" for c in ("xx", "yy") if (comp == c).any())
         attrs["measured_profile"] = f"{md.size} points ({counts})"
-    return xr.Dataset(out, coords=coords, attrs=attrs)
+    return OUTPUTS.dataset(out, coords=coords, attrs=attrs)

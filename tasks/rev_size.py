@@ -13,25 +13,29 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ._common import peening_task, var
+from ._common import peening_task
+from .dmin import OUTPUTS as DMIN
+from .outputs import Output, Outputs
 from .params import RevParams
+from .rev_thickness import OUTPUTS as THICKNESS
+
+OUTPUTS = Outputs(
+    "rev_size",
+    rev_side_m=Output((), "m", "REV top-surface side"),
+    measure_side_m=Output((), "m", "central measuring-region side"),
+    thickness_m=Output((), "m", "REV thickness"),
+    d_min_m=Output((), "m", "d_min used (NaN when not from a search)"),
+)
 
 
 @peening_task(version="2")
 def rev_size(dmin: xr.Dataset | None = None, thickness: xr.Dataset | None = None, *, rev: RevParams) -> xr.Dataset:
     """``thickness``: a rev_thickness result; it replaces ``rev.thickness_m`` when given."""
-    thickness_m = rev.thickness_m if thickness is None else float(thickness.thickness_m)
+    thickness_m = rev.thickness_m if thickness is None else THICKNESS.thickness_m.read(thickness)
     if rev.rule == "dmin" and dmin is None:
         raise ValueError("rule 'dmin' needs the d_min search upstream")
-    d_min = float("nan") if dmin is None else float(np.nanmax(np.asarray(dmin.d_min_m.values)))
+    d_min = float("nan") if dmin is None else float(np.nanmax(DMIN.d_min_m.read(dmin)))
     geometry = rev.geometry(None if dmin is None else d_min)
     side, measure = geometry.side, geometry.measuring_side
-    return xr.Dataset(
-        {
-            "rev_side_m": var(side, (), "m", "REV top-surface side"),
-            "measure_side_m": var(measure, (), "m", "central measuring-region side"),
-            "thickness_m": var(thickness_m, (), "m", "REV thickness"),
-            "d_min_m": var(d_min, (), "m", "d_min used (NaN when not from a search)"),
-        },
-        attrs={"rule": rev.rule},
-    )
+    return OUTPUTS.dataset({"rev_side_m": side, "measure_side_m": measure, "thickness_m": thickness_m,
+                            "d_min_m": d_min}, attrs={"rule": rev.rule})

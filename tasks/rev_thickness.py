@@ -26,11 +26,23 @@ import numpy as np
 import xarray as xr
 
 from . import _kernel as K
-from ._common import peening_task, scalar, var
+from ._common import peening_task, var
+from .indentation import OUTPUTS as DENT
+from .outputs import Output, Outputs
 from .params import FidelityParams, MaterialParams, ShotParams
 from .single_impact import run_single_impact
+from .target_velocity import OUTPUTS as VELOCITY
 
 PLASTIC_FRACTION = 0.01
+
+OUTPUTS = Outputs(
+    "rev_thickness",
+    thickness_m=Output((), "m", "REV thickness from the single-impact convergence check"),
+    plastic_depth_m=Output((), "m", f"deepest layer with eps_p > {PLASTIC_FRACTION:g} x max"),
+    candidate_thickness_m=Output(("candidate",), "m", "candidate REV thickness h"),
+    stress_difference=Output(("candidate",), "1", "max |sigma(h) - sigma(2h)| / max |sigma(2h)| under the dent"),
+    dent_depth_difference=Output(("candidate",), "1", "|dent(h) - dent(2h)| / dent(2h)"),
+)
 
 
 def _column_profile(mesh, result, radius: float, depth: float) -> tuple[np.ndarray, np.ndarray]:
@@ -63,8 +75,8 @@ def rev_thickness(velocity: xr.Dataset, dent: xr.Dataset, *, material: MaterialP
                   tolerance: float = 0.02,
                   ctx=None) -> xr.Dataset:
     """``velocity``: target_velocity result; ``dent``: the target's indentation (radius for the columns)."""
-    speed = scalar(velocity, "velocity_m_s")
-    radius = max(scalar(dent, "dent_semi_axis_along_m"), scalar(dent, "dent_semi_axis_across_m"))
+    speed = VELOCITY.velocity_m_s.read(velocity)
+    radius = max(DENT.dent_semi_axis_along_m.read(dent), DENT.dent_semi_axis_across_m.read(dent))
     threads = ctx.threads if ctx else 1
 
     def impact(h):
@@ -104,15 +116,9 @@ def rev_thickness(velocity: xr.Dataset, dent: xr.Dataset, *, material: MaterialP
             chosen = h
             break
         h = thick
-    return xr.Dataset(
-        {
-            "thickness_m": var(chosen, (), "m", "REV thickness from the single-impact convergence check"),
-            "plastic_depth_m": var(d_p, (), "m", f"deepest layer with eps_p > {PLASTIC_FRACTION:g} x max"),
-            "candidate_thickness_m": var(np.array(tried), ("candidate",), "m", "candidate REV thickness h"),
-            "stress_difference": var(np.array(stress_diff), ("candidate",), "1",
-                                     "max |sigma(h) - sigma(2h)| / max |sigma(2h)| under the dent"),
-            "dent_depth_difference": var(np.array(dent_diff), ("candidate",), "1", "|dent(h) - dent(2h)| / dent(2h)"),
-        },
+    return OUTPUTS.dataset(
+        {"thickness_m": chosen, "plastic_depth_m": d_p, "candidate_thickness_m": np.array(tried),
+         "stress_difference": np.array(stress_diff), "dent_depth_difference": np.array(dent_diff)},
         coords={"candidate": var(np.arange(len(tried)), ("candidate",), "1", "candidate number")},
         attrs={"tolerance": tolerance, "part_thickness_m": part_thickness_m,
                "rule": "converged" if chosen < part_thickness_m else "part thickness (no thinner block converged)"},

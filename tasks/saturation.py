@@ -15,9 +15,34 @@ import xarray as xr
 from peenflow.methods import fit_sequences
 
 from ._common import peening_task, var
+from .outputs import Output, Outputs
 from .params import SequencesParams
 
 MODELS = {"paper": "eq10", "exponential_2p": "exp2", "exponential_3p": "exp3"}
+
+_EXTRAPOLATED = {"flag_values": np.array([0, 1]), "flag_meanings": "within_ladder extrapolated"}
+
+OUTPUTS = Outputs(
+    "saturation",
+    intensity_m=Output((), "m", "Almen intensity from the mean curve (eq. 11)"),
+    saturation_shots=Output((), "1", "saturation point T: N solving Ah(2N) = 1.1 Ah(N)"),
+    intensity_extrapolated=Output((), "1", "1 if the saturation point lies outside the shot ladder",
+                                  attrs=_EXTRAPOLATED),
+    sequence_intensity_m=Output(("sequence",), "m", "per-sequence intensity"),
+    sequence_saturation_shots=Output(("sequence",), "1", "per-sequence saturation point T"),
+    sequence_extrapolated=Output(("sequence",), "1", "1 if the sequence's saturation point lies outside the shot "
+                                                     "ladder", attrs=_EXTRAPOLATED),
+    intensity_std_m=Output((), "m", "spread over sequences (ddof=1)"),
+    fit_arc_height_m=Output(("shots_fine",), "m", "fitted mean curve"),
+    mean_arc_height_m=Output(("shots",), "m", "arc height, mean over sequences"),
+    fit_residual_rms_m=Output((), "m", "RMS residual of the mean-curve fit"),
+    intensity_standard_error_m=Output((), "m", "standard error of the per-sequence intensities' mean",
+                                      optional=True),
+    intensity_standard_error_bound_m=Output((), "m", "95 % upper confidence bound of that standard error",
+                                            optional=True),
+    sequence_tolerance_met=Output((), "1", "1 if the bound is within the tolerance", optional=True,
+                                  attrs={"flag_values": np.array([0, 1]), "flag_meanings": "not_met met"}),
+)
 
 
 @peening_task(version="2")  # 2: intensities and arc heights stored in m (was mm)
@@ -42,31 +67,15 @@ def saturation(arc: xr.Dataset, *, fit: str, angle_deg: float | None = None,
     rule, why = {}, {}
     if sequences is not None:
         v = sequences.verdict(per_seq)
-        rule = {"intensity_standard_error_m": var(v.standard_error, (), "m",
-                                                  "standard error of the per-sequence intensities' mean"),
-                "intensity_standard_error_bound_m": var(v.bound, (), "m",
-                                                        "95 % upper confidence bound of that standard error"),
-                "sequence_tolerance_met": var(int(v.met), (), "1", "1 if the bound is within the tolerance",
-                                              flag_values=np.array([0, 1]), flag_meanings="not_met met")}
+        rule = {"intensity_standard_error_m": v.standard_error, "intensity_standard_error_bound_m": v.bound,
+                "sequence_tolerance_met": int(v.met)}
         why = {"sequences_rule": f"{sequences.describe()}: {v.reason}"}
-    return xr.Dataset(
-        {
-            "intensity_m": var(mean.intensity, (), "m", "Almen intensity from the mean curve (eq. 11)"),
-            "saturation_shots": var(mean.saturation_shots, (), "1", "saturation point T: N solving Ah(2N) = 1.1 Ah(N)"),
-            "intensity_extrapolated": var(int(mean.extrapolated), (), "1",
-                                          "1 if the saturation point lies outside the shot ladder",
-                                          flag_values=np.array([0, 1]), flag_meanings="within_ladder extrapolated"),
-            "sequence_intensity_m": var(per_seq, ("sequence",), "m", "per-sequence intensity"),
-            "sequence_saturation_shots": var(n_sat, ("sequence",), "1", "per-sequence saturation point T"),
-            "sequence_extrapolated": var(extrap.astype(int), ("sequence",), "1",
-                                         "1 if the sequence's saturation point lies outside the shot ladder",
-                                         flag_values=np.array([0, 1]), flag_meanings="within_ladder extrapolated"),
-            "intensity_std_m": var(result.intensity_std, (), "m", "spread over sequences (ddof=1)"),
-            "fit_arc_height_m": var(mean.arc_height(n_fine), ("shots_fine",), "m", "fitted mean curve"),
-            "mean_arc_height_m": var(np.nanmean(ah_m, axis=0), ("shots",), "m", "arc height, mean over sequences"),
-            "fit_residual_rms_m": var(mean.residual_rms, (), "m", "RMS residual of the mean-curve fit"),
-            **rule,
-        },
+    return OUTPUTS.dataset(
+        {"intensity_m": mean.intensity, "saturation_shots": mean.saturation_shots,
+         "intensity_extrapolated": int(mean.extrapolated), "sequence_intensity_m": per_seq,
+         "sequence_saturation_shots": n_sat, "sequence_extrapolated": extrap.astype(int),
+         "intensity_std_m": result.intensity_std, "fit_arc_height_m": mean.arc_height(n_fine),
+         "mean_arc_height_m": np.nanmean(ah_m, axis=0), "fit_residual_rms_m": mean.residual_rms, **rule},
         coords={"sequence": var(arc.sequence.values, ("sequence",), "1", "random shot sequence number"),
                 "shots": var(counts, ("shots",), "1", "number of shots N"),
                 "shots_fine": var(n_fine, ("shots_fine",), "1", "number of shots N (fine grid of the fitted curve)")},

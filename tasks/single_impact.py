@@ -22,8 +22,30 @@ from peenflow.methods import VOIGT
 
 from . import _kernel as K
 from ._impact_core import ImpactCore, core_for, cored_block
-from ._common import COMPONENT_LONG_NAME, depth, labels, peening_task, scalar, var
+from ._common import COMPONENT_LONG_NAME, depth, labels, peening_task, var
+from .outputs import Output, Outputs
 from .params import FidelityParams, MaterialParams, ShotParams
+from .target_velocity import OUTPUTS as VELOCITY
+
+OUTPUTS = Outputs(
+    "single_impact",
+    stress_Pa=Output(("z_cell", "y_cell", "x_cell", "component"), "Pa", "relaxed residual stress (model part)"),
+    plastic_strain=Output(("z_cell", "y_cell", "x_cell"), "1", "equivalent plastic strain"),
+    surface_uz_m=Output(("x_node_full", "y_node_full"), "m", "top-surface displacement, + into target"),
+    surface_von_mises_Pa=Output(("x_cell_full", "y_cell_full"), "Pa", "top-layer von Mises residual"),
+    restitution=Output((), "1", "coefficient of restitution -v_out,z / v_in,z"),
+    peak_force_N=Output((), "N", "peak contact force on the model part"),
+    max_approach_m=Output((), "m", "deepest point of the shot below z = 0"),
+    contact_time_s=Output((), "s", "duration of contact"),
+    rebound_velocity_m_s=Output(("xyz",), "m s-1", "shot velocity after the impact"),
+    energy_error=Output((), "1", "energy balance error / impact energy"),
+    hourglass_ratio=Output((), "1", "hourglass / internal energy"),
+    impact_x_m=Output((), "m", "impact point x"),
+    impact_y_m=Output((), "m", "impact point y"),
+    # the contact's history, when the impact was recorded
+    contact_force_N=Output(("time_s",), "N", "normal contact force on the whole shot", optional=True),
+    shot_z_m=Output(("time_s",), "m", "shot centre z, positive into the target", optional=True),
+)
 
 
 #: the fine zone of a single impact's block, as a fraction of its half width
@@ -82,20 +104,12 @@ def impact_dataset(mesh, result, normal: bool) -> xr.Dataset:
     shots = result.shots
     hist = result.histories[0] if result.histories else None
     data = {
-        "stress_Pa": var(stress, ("z_cell", "y_cell", "x_cell", "component"), "Pa",
-                         "relaxed residual stress (model part)"),
-        "plastic_strain": var(eps, ("z_cell", "y_cell", "x_cell"), "1", "equivalent plastic strain"),
-        "surface_uz_m": var(uz, ("x_node_full", "y_node_full"), "m", "top-surface displacement, + into target"),
-        "surface_von_mises_Pa": var(vm_top, ("x_cell_full", "y_cell_full"), "Pa", "top-layer von Mises residual"),
-        "restitution": var(float(shots["restitution"][0]), (), "1", "coefficient of restitution -v_out,z / v_in,z"),
-        "peak_force_N": var(float(shots["peak_force"][0]), (), "N", "peak contact force on the model part"),
-        "max_approach_m": var(float(shots["max_approach"][0]), (), "m", "deepest point of the shot below z = 0"),
-        "contact_time_s": var(float(shots["contact_duration"][0]), (), "s", "duration of contact"),
-        "rebound_velocity_m_s": var(np.array([shots["vout_x"][0], shots["vout_y"][0], shots["vout_z"][0]]),
-                                    ("xyz",), "m s-1", "shot velocity after the impact"),
-        "energy_error": var(float(result.energy_error), (), "1", "energy balance error / impact energy"),
-        "hourglass_ratio": var(float(result.hourglass_ratio), (), "1", "hourglass / internal energy"),
-        "impact_x_m": var(0.0, (), "m", "impact point x"), "impact_y_m": var(0.0, (), "m", "impact point y"),
+        "stress_Pa": stress, "plastic_strain": eps, "surface_uz_m": uz, "surface_von_mises_Pa": vm_top,
+        "restitution": float(shots["restitution"][0]), "peak_force_N": float(shots["peak_force"][0]),
+        "max_approach_m": float(shots["max_approach"][0]), "contact_time_s": float(shots["contact_duration"][0]),
+        "rebound_velocity_m_s": np.array([shots["vout_x"][0], shots["vout_y"][0], shots["vout_z"][0]]),
+        "energy_error": float(result.energy_error), "hourglass_ratio": float(result.hourglass_ratio),
+        "impact_x_m": 0.0, "impact_y_m": 0.0,
     }
     coords = {"x_cell": var(xc, ("x_cell",), "m", "element centre x (model part)"),
               "y_cell": var(yc, ("y_cell",), "m", "element centre y (model part)"),
@@ -109,10 +123,9 @@ def impact_dataset(mesh, result, normal: bool) -> xr.Dataset:
               "z_node": depth(mesh.z, "z_node", "node layer depth below the surface")}
     if hist is not None:
         coords["time_s"] = var(hist["time"], ("time_s",), "s", "time since the start of the impact")
-        data["contact_force_N"] = var(hist["force"][:, 2] * (4 if normal else 2), ("time_s",), "N",
-                                      "normal contact force on the whole shot")
-        data["shot_z_m"] = var(hist["centre"][:, 2], ("time_s",), "m", "shot centre z, positive into the target")
-    return xr.Dataset(data, coords=coords)
+        data["contact_force_N"] = hist["force"][:, 2] * (4 if normal else 2)
+        data["shot_z_m"] = hist["centre"][:, 2]
+    return OUTPUTS.dataset(data, coords=coords)
 
 
 @peening_task(version="1")
@@ -125,7 +138,7 @@ def single_impact(velocity: xr.Dataset | None = None, *, material: MaterialParam
     ``core_element_size_m``: elements of that size (m) in a core under the impact only
     (``fidelity.dent_refinement = "core"``, :mod:`tasks._impact_core`); if the core does not fit in
     the block's fine zone, the whole fine zone takes that size (attribute ``dent_refinement``)."""
-    speed = velocity_m_s if velocity_m_s is not None else scalar(velocity, "velocity_m_s")
+    speed = velocity_m_s if velocity_m_s is not None else VELOCITY.velocity_m_s.read(velocity)
     core, refinement = None, ""
     if core_element_size_m is not None:
         core = impact_core(material, shot, fidelity, speed, angle_deg, half_width_m, thickness_m,

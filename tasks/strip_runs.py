@@ -15,15 +15,18 @@ from __future__ import annotations
 
 import xarray as xr
 
-from ._common import peening_task, scalar
-from ._rev_run import run_rev
+from ._common import peening_task
+from ._rev_run import RUN, run_rev
 from .params import FidelityParams, LadderParams, MaterialParams, ShotParams
+from .rev_size import OUTPUTS as REV
+
+OUTPUTS = RUN.derive("strip_runs")
 
 
 @peening_task(version="1")
 def strip_runs(rev: xr.Dataset, *, material: MaterialParams, shot: ShotParams, fidelity: FidelityParams,
                angle_deg: float, velocity_m_s: float, sequence: int, seed: int, shot_counts: list | None = None,
                extend: LadderParams | None = None, ctx=None) -> xr.Dataset:
-    return run_rev(ctx, material=material, shot=shot, fidelity=fidelity, side_m=scalar(rev, "rev_side_m"),
-                   measure_side_m=scalar(rev, "measure_side_m"), thickness_m=scalar(rev, "thickness_m"),
+    return run_rev(ctx, material=material, shot=shot, fidelity=fidelity, side_m=REV.rev_side_m.read(rev),
+                   measure_side_m=REV.measure_side_m.read(rev), thickness_m=REV.thickness_m.read(rev),
                    angle_deg=angle_deg, velocity_m_s=velocity_m_s, seed=seed, ladder=shot_counts, extend=extend)

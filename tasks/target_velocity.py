@@ -20,8 +20,16 @@ import xarray as xr
 from peenflow.methods import ControlCurve, ControlCurveFamily
 from peenflow.methods.control_curve import AngleBlend
 
-from ._common import MM, peening_task, var
+from ._common import MM, peening_task
+from .outputs import Output, Outputs
 from .params import TargetParams
+
+OUTPUTS = Outputs(
+    "target_velocity",
+    velocity_m_s=Output((), "m s-1", "shot velocity of the target (attribute method: given, or how it was read "
+                                     "off the control curve)"),
+    intensity_m=Output((), "m", "target Almen intensity", optional=True),
+)
 
 
 class IntensityOutOfRange(ValueError):
@@ -66,8 +74,7 @@ def target_velocity(control: xr.Dataset | None = None, *, target: TargetParams) 
     allow_extrapolated, interpolation = target.allow_extrapolated, target.interpolation
     wanted = target.intensity_m
     if velocity_m_s is not None:
-        return xr.Dataset({"velocity_m_s": var(velocity_m_s, (), "m s-1", "shot velocity, given in the study")},
-                          attrs={"method": "given"})
+        return OUTPUTS.dataset({"velocity_m_s": velocity_m_s}, attrs={"method": "given"})
     curves = []
     for a in control.angle_deg.values:
         ints = control.intensity_m.sel(angle_deg=a).values
@@ -95,9 +102,8 @@ def target_velocity(control: xr.Dataset | None = None, *, target: TargetParams) 
     if not allow_extrapolated:
         bracket = sorted({float(grid[grid <= v].max()), float(grid[grid >= v].min())})
         _check_saturated(control, used, bracket)
-    return xr.Dataset(
-        {"velocity_m_s": var(v, (), "m s-1", "shot velocity giving the target intensity on the control curve"),
-         "intensity_m": var(wanted, (), "m", "target Almen intensity")},
+    return OUTPUTS.dataset(
+        {"velocity_m_s": v, "intensity_m": wanted},
         attrs={"method": rule, "interpolation": interpolation,
                "control_angles_deg": ", ".join(f"{a:g}" for a in family.angles)},
     )

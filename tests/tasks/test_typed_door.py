@@ -52,3 +52,49 @@ def test_graph_from_parameters_alone(path):
     assert from_params.result_attrs == from_file.result_attrs
     assert from_params.stage_result_attrs == from_file.stage_result_attrs
     assert len(from_file.nodes) > 5
+
+
+# -- the one door out: declared outputs ------------------------------------------------------------------
+def test_every_stored_result_is_its_stage_declaration(micro):
+    """Each result of the micro study holds exactly what its task declares (names, dims, units), so a
+    stage downstream that reads a declared output reads what was written."""
+    import xarray as xr
+
+    import tasks.pipeline  # noqa: F401 - imports every stage, which registers its declaration
+    from tasks.outputs import DECLARED
+
+    files = sorted((micro.parent / ".peenflow" / "results").glob("*/*.nc"))
+    seen = set()
+    for f in files:
+        with xr.open_dataset(f) as ds:
+            task = ds.attrs["peenflow_task"]
+            point = ds.attrs["peenflow_point"]  # "stage[dim=value,...]" or "stage"
+            point_dims = [kv.split("=")[0] for kv in point.partition("[")[2].rstrip("]").split(",") if kv]
+            assert task in DECLARED, f"{task} declares no outputs"
+            assert DECLARED[task].problems(ds, point_dims) == [], f.name
+            seen.add(task)
+    assert {"single_impact", "strip_runs", "target_runs", "residual_profile", "saturation"} <= seen
+
+
+def test_a_declaration_refuses_what_it_does_not_declare():
+    import numpy as np
+
+    from tasks.outputs import Output, Outputs
+
+    out = Outputs("test_declaration", depth_m=Output(("layer",), "m", "a depth"),
+                  note=Output((), "1", "an optional count", optional=True))
+    ds = out.dataset({"depth_m": np.array([1e-4, 2e-4])})
+    assert ds.depth_m.attrs == {"long_name": "a depth", "units": "m"}
+    np.testing.assert_array_equal(out.depth_m.read(ds), [1e-4, 2e-4])
+    with pytest.raises(KeyError, match="not declared"):
+        out.dataset({"depth_m": np.zeros(2), "depth_mm": np.zeros(2)})
+    with pytest.raises(KeyError, match="not given"):
+        out.dataset({"note": 1})
+    with pytest.raises(ValueError, match="declared with dims"):
+        out.dataset({"depth_m": 1.0})
+    with pytest.raises(AttributeError, match="declares no output 'depth_mm'"):
+        out.depth_mm
+    ds.depth_m.attrs["units"] = "mm"
+    with pytest.raises(ValueError, match="declared 'm'"):
+        out.depth_m.read(ds)
+    assert out.problems(ds) == ["depth_m: units 'mm', declared 'm'"]
