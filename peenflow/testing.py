@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from .study.items import Material, Shot
+from .study.sections import ShotSection
 
 LIBRARY = Path(__file__).parent / "study" / "library"
 
@@ -51,11 +52,11 @@ def library_shot(name: str) -> Shot:
 
 
 def kernel_material_kwargs(name: str) -> dict:
-    """The keyword arguments of the kernel's ``Material`` for a library material, SI."""
-    m = library_material(name)
-    jc = m.johnson_cook
-    return dict(E=m.youngs_modulus_Pa, nu=m.poisson_ratio, density=m.density_kg_m3, A=jc.A_Pa, B=jc.B_Pa, n=jc.n,
-                C=jc.C, m=jc.m)
+    """The keyword arguments of the kernel's ``Material`` for a library material, SI: the stages' own
+    translation (:meth:`tasks.params.MaterialParams.kernel_kwargs`)."""
+    from tasks.params import MaterialParams
+
+    return MaterialParams.from_study(library_material(name)).kernel_kwargs()
 
 
 @dataclass(frozen=True)
@@ -71,9 +72,15 @@ class ShotConstants:
 SAE1070 = kernel_material_kwargs("SAE1070")
 #: Al 7075-T73 (the paper's part; Table 2), kernel keyword arguments
 AL7075_T73 = kernel_material_kwargs("Al7075-T73")
-_s230 = library_shot("S230")
+def _shot_constants(name: str) -> ShotConstants:
+    from tasks.params import ShotParams
+
+    shot = ShotParams.from_study(ShotSection(type=library_shot(name)))
+    return ShotConstants(shot.radius_m, shot.diameter_m, shot.density_kg_m3)
+
+
 #: S230 cast steel shot (D = 0.58 mm, 7800 kg m-3; paper §4)
-S230 = ShotConstants(_s230.radius_m, _s230.diameter_m, _s230.density_kg_m3)
+S230 = _shot_constants("S230")
 
 #: the units result variables may carry for lengths, stresses and speeds (the store is SI)
 SI_UNITS = {"m", "Pa", "m s-1", "s", "N", "N m", "m2", "m-1", "K", "kg", "1", "%", "degree"}

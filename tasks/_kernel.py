@@ -17,11 +17,9 @@ import xarray as xr
 
 from peenflow.fe import impact as _impact
 from peenflow.fe.impact import ImpactRun  # noqa: F401 - the REV run drives the kernel step by step
-from peenflow.fe.mesh import BoxMesh, graded_axis
+from peenflow.fe.mesh import BoxMesh, graded_axis, uniform_lateral_elements
 from peenflow.fe.records import SHOT_RECORD_FIELDS
 from peenflow.fe.safety import KernelInstabilityError
-
-from peenflow.study.bounds import rev_lateral_elements
 
 from .params import FidelityParams
 
@@ -96,7 +94,7 @@ def rev_mesh(f: FidelityParams, side: float, thickness: float) -> BoxMesh:
     Shots land anywhere on the peening surface, so the fine zone covers it all;
     lateral node lines fall on the measuring-region edges when the sizes allow.
     """
-    n = rev_lateral_elements(side, f.element_size_m)
+    n = uniform_lateral_elements(side, f.element_size_m)
     axis = np.linspace(-0.5 * side, 0.5 * side, n + 1)
     return BoxMesh(axis, axis.copy(), _z_axis(f, thickness))
 

@@ -1,8 +1,9 @@
 """Typed stage parameters: the one translation from a validated study to the stages and the kernel.
 
 A study file holds values in the units its users think in (mm, um, GPa,
-MPa); the stages and the FE/DEM kernel work in SI.  This module is the only
-place that converts: :func:`study_params` reads a validated
+MPa), and the study models keep them; the stages and the FE/DEM kernel work
+in SI.  This module is where a study becomes SI (with the factors of
+:mod:`peenflow.units`): :func:`study_params` reads a validated
 :class:`peenflow.study.Study` once into frozen dataclasses in SI (m, Pa,
 kg m-3, m s-1, s), and each dataclass has
 
@@ -38,13 +39,11 @@ from peenflow.fe.model import Target
 from peenflow.fe.shots import Shots
 from peenflow.methods import RevGeometry, impingement_direction
 from peenflow.study.measured_profile import MeasuredProfile
+from peenflow.units import GPA, MM, MPA, UM
 
 __all__ = ["StageParams", "MaterialParams", "ShotParams", "FidelityParams", "DminParams", "CoverageParams",
            "StripParams", "LadderParams", "SequencesParams", "RevParams", "TargetParams", "PlateParams", "MeasuredProfile",
            "StripSweep", "TargetPlan", "FidelityLevels", "StudyParams", "study_params"]
-
-MM = 1e-3
-UM = 1e-6
 
 
 @dataclass(frozen=True)
@@ -125,15 +124,21 @@ class MaterialParams(StageParams):
     def from_study(cls, material) -> "MaterialParams":
         """From a study :class:`peenflow.study.items.Material` (GPa, MPa there)."""
         jc = material.johnson_cook
-        return cls(material.youngs_modulus_Pa, material.poisson_ratio, material.density_kg_m3, jc.A_Pa, jc.B_Pa,
-                   jc.n, jc.C, jc.m, jc.reference_strain_rate_1_s, jc.room_temperature_K, jc.melt_temperature_K)
+        return cls(material.youngs_modulus_GPa * GPA, material.poisson_ratio, material.density_kg_m3,
+                   jc.A_MPa * MPA, jc.B_MPa * MPA, jc.n, jc.C, jc.m, jc.reference_strain_rate_1_s,
+                   jc.room_temperature_K, jc.melt_temperature_K)
 
-    def to_kernel(self) -> Material:
+    def kernel_kwargs(self) -> dict:
+        """The keyword arguments of the kernel's :class:`~peenflow.fe.johnson_cook.Material` (SI); the
+        temperatures only where the study gives them (the kernel's own otherwise)."""
         temperatures = {k: v for k, v in (("T_room", self.room_temperature_K), ("T_melt", self.melt_temperature_K))
                         if v is not None}
-        return Material(E=self.youngs_modulus_Pa, nu=self.poisson_ratio, density=self.density_kg_m3, A=self.A_Pa,
-                        B=self.B_Pa, n=self.n, C=self.C, m=self.m, ref_strain_rate=self.reference_strain_rate_1_s,
-                        **temperatures)
+        return dict(E=self.youngs_modulus_Pa, nu=self.poisson_ratio, density=self.density_kg_m3, A=self.A_Pa,
+                    B=self.B_Pa, n=self.n, C=self.C, m=self.m, ref_strain_rate=self.reference_strain_rate_1_s,
+                    **temperatures)
+
+    def to_kernel(self) -> Material:
+        return Material(**self.kernel_kwargs())
 
 
 @dataclass(frozen=True)
@@ -146,7 +151,8 @@ class ShotParams(StageParams):
 
     @classmethod
     def from_study(cls, shot) -> "ShotParams":
-        return cls(shot.radius_m, shot.density_kg_m3, shot.friction_coefficient)
+        """From a study's ``[shot]`` section (diameter in mm there)."""
+        return cls(0.5 * shot.diameter_mm * MM, shot.density_kg_m3, shot.friction_coefficient)
 
     @property
     def diameter_m(self) -> float:
@@ -189,8 +195,11 @@ class FidelityParams(StageParams):
 
     @classmethod
     def from_study(cls, f) -> "FidelityParams":
-        return cls(f.element_size_m, f.fine_depth_m, f.grading_ratio, f.time_step_safety, f.window_contact_radii,
-                   f.settle_tolerance, f.relaxation_tolerance, f.lateral_boundary)
+        """From a study's ``[fidelity]`` (um, mm or shot diameters there)."""
+        fine_depth = f.fine_depth_mm * MM if f.fine_depth_mm is not None else \
+            f.fine_depth_D * (f.shot_diameter_mm * MM)
+        return cls(f.element_size_um * UM, fine_depth, f.grading_ratio, f.time_step_safety,
+                   f.window_contact_radii, f.settle_tolerance, f.relaxation_tolerance, f.lateral_boundary)
 
     def options(self, shot: ShotParams, threads: int = 1, record: bool = False, record_every: int = 1) -> Options:
         """The kernel's options.
@@ -242,7 +251,10 @@ class DminParams(StageParams):
 
     @classmethod
     def from_study(cls, d) -> "DminParams":
-        return cls(d.threshold, d.resolution_m, d.min_distance_m, d.max_distance_m, d.method)
+        """From a study's ``[dmin]`` (mm or shot diameters there)."""
+        D = d.shot_diameter_mm * MM
+        resolution = d.resolution_mm * MM if d.resolution_mm is not None else d.resolution_D * D
+        return cls(d.threshold, resolution, d.min_distance_D * D, d.max_distance_D * D, d.method)
 
 
 @dataclass(frozen=True)
@@ -272,7 +284,9 @@ class StripParams(StageParams):
 
     @classmethod
     def from_study(cls, strip) -> "StripParams":
-        return cls(strip.width_m, strip.thickness_m, strip.material.youngs_modulus_Pa, strip.gauge_span_m)
+        """From a study's strip (mm, GPa there)."""
+        return cls(strip.width_mm * MM, strip.thickness_mm * MM, strip.material.youngs_modulus_GPa * GPA,
+                   strip.gauge_span_mm * MM)
 
 
 @dataclass(frozen=True)
@@ -472,17 +486,19 @@ class StudyParams:
 
 def study_params(study) -> StudyParams:
     """All stage parameters of a validated study, in SI (module docstring)."""
-    D = study.shot.diameter_m
+    shot = ShotParams.from_study(study.shot)
+    D = shot.diameter_m
     c = study.coverage
     coverage = CoverageParams(
-        shot_radius_m=study.shot.radius_m, grid_points=c.grid_points, max_shots=c.max_shots,
+        shot_radius_m=shot.radius_m, grid_points=c.grid_points, max_shots=c.max_shots,
         shot_counts=None if c.shot_counts is None else tuple(int(n) for n in c.shot_counts), sequences=c.sequences,
         seeds=tuple(study.seeds.seeds("coverage", c.sequences)), full_coverage_percent=c.full_coverage_percent)
     strip_material = strip = strip_rev = ladder = sequences = strips = None
     if (a := study.almen) is not None:
         strip_material = MaterialParams.from_study(a.strip.material)
         strip = StripParams.from_study(a.strip)
-        strip_rev = RevParams(a.rev_rule, a.strip.thickness_m, D, _mm(a.rev_size_mm), _mm(a.measure_size_mm))
+        # the strip REV is as thick as the strip (section 4.1)
+        strip_rev = RevParams(a.rev_rule, strip.thickness_m, D, _mm(a.rev_size_mm), _mm(a.measure_size_mm))
         if a.ladder_auto:
             ladder = LadderParams(a.ladder_first_shots, a.ladder_max_shots, a.saturation_fit, strip)
         if a.sequences_adaptive:
@@ -504,13 +520,14 @@ def study_params(study) -> StudyParams:
             angle_deg=t.angle_deg, velocity_m_s=t.velocity_m_s, intensity_m=None if given else t.intensity_mm * MM,
             rule=t.control_angle_rule, interpolation=None if given else study.almen.interpolation,
             allow_extrapolated=bool(study.almen and study.almen.allow_extrapolated_intensity))
-        target_rev = RevParams("dmin" if t.rev_size_mm is None else "explicit", t.rev_thickness_m, D,
+        rev_thickness_m = t.rev_thickness_given_mm * MM
+        target_rev = RevParams("dmin" if t.rev_size_mm is None else "explicit", rev_thickness_m, D,
                                _mm(t.rev_size_mm), _mm(t.measure_size_mm))
-        plate = PlateParams(t.thickness_m, t.material.youngs_modulus_Pa, t.material.poisson_ratio)
+        plate = PlateParams(t.thickness_mm * MM, target_material.youngs_modulus_Pa, target_material.poisson_ratio)
         measured = t.measured_profile
         target_plan = TargetPlan(coverage_percent=t.coverage_percent, sequences=t.sequences,
-                                 seeds=tuple(study.seeds.seeds("target", t.sequences)), thickness_m=t.thickness_m,
-                                 rev_thickness_m=t.rev_thickness_m, rev_thickness_auto=t.rev_thickness_auto)
+                                 seeds=tuple(study.seeds.seeds("target", t.sequences)), thickness_m=t.thickness_mm * MM,
+                                 rev_thickness_m=rev_thickness_m, rev_thickness_auto=t.rev_thickness_auto)
     f = study.fidelity
     fidelity = FidelityParams.from_study(f)
     levels = FidelityLevels(f.describe(), f.element_size_um, f.lateral_boundary, f.extrapolate_intensity_from_um,
@@ -531,7 +548,7 @@ def study_params(study) -> StudyParams:
     names = {"shot": study.shot.name, "strip": a.strip.name if a is not None else None,
              "target_material": t.material.name if t is not None else None}
     return StudyParams(
-        name=study.name, path=Path(study.path), shot=ShotParams.from_study(study.shot), fidelity=fidelity,
+        name=study.name, path=Path(study.path), shot=shot, fidelity=fidelity,
         dmin=DminParams.from_study(study.dmin), strip_material=strip_material, strip=strip, strip_rev=strip_rev,
         ladder=ladder, sequences=sequences, coverage=coverage, target_material=target_material, target=target,
         target_rev=target_rev, plate=plate, measured=measured, strips=strips, target_plan=target_plan,

@@ -41,6 +41,7 @@ from .headline import headline_numbers
 from .indentation import indentation
 from .intensity_extrapolation import intensity_extrapolation
 from .params import StripSweep, StudyParams, study_params
+from .preflight import check_before_compute
 from .plots import write_plots
 from .report import write_report
 from .residual_profile import residual_profile
@@ -91,8 +92,12 @@ STAGES: dict[str, str] = {
 
 
 def build_graph(path) -> Graph:
-    """The graph of the study file at ``path``: read once into typed parameters, then :func:`graph_for`."""
-    return graph_for(study_params(load_study(path)))
+    """The graph of the study file at ``path``: read once into typed parameters, checked against the
+    kernel's limits (:mod:`tasks.preflight`), then :func:`graph_for`."""
+    study = load_study(path)
+    p = study_params(study)
+    check_before_compute(study, p)
+    return graph_for(p)
 
 
 def graph_for(p: StudyParams) -> Graph:

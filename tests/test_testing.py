@@ -12,7 +12,8 @@ from peenflow.testing import AL7075_T73, S230, SAE1070, _table, assert_cf_variab
 
 def test_the_paper_s_materials_and_shot():
     # paper Table 1 (SAE 1070), Table 2 (Al 7075-T73), section 4 (S230: D = 0.58 mm)
-    assert SAE1070 == dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0134, m=0.0)
+    assert SAE1070 == dict(E=205e9, nu=0.29, density=7800.0, A=1408e6, B=600.8e6, n=0.234, C=0.0134, m=0.0,
+                           ref_strain_rate=1.0)  # the stages' translation: every field a study sets
     assert (AL7075_T73["E"], AL7075_T73["A"], AL7075_T73["B"], AL7075_T73["n"]) == (71e9, 434e6, 303.58e6, 0.39)
     assert S230.diameter_m == pytest.approx(0.58e-3) and S230.radius_m == pytest.approx(0.29e-3)
     Material(**SAE1070), Material(**AL7075_T73)  # the kernel accepts them

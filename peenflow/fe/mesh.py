@@ -200,6 +200,20 @@ class BoxMesh:
         return np.outer(trib(self.y), trib(self.x))
 
 
+def uniform_lateral_elements(side: float, element: float) -> int:
+    """Elements along each lateral edge of a REV of ``side`` (m) meshed uniformly at about ``element``
+    (m): the nearest whole number, at least 2 (a REV's lateral faces are its periodic or symmetric
+    faces, so its lateral step is the side over a whole number of elements)."""
+    return max(2, int(round(side / element)))
+
+
+def uniform_lateral_step_bound(side: float, element: float) -> float:
+    """The largest lateral step (m) :func:`uniform_lateral_elements` can give for these sizes: at a
+    tie (side / element = k + 1/2, where the rounding depends on how the two were computed) the one
+    of the fewer elements."""
+    return side / uniform_lateral_elements(side, element * (1.0 + 1e-12))
+
+
 def box_mesh(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> BoxMesh:
     """Build a :class:`BoxMesh` from three 1-D node-coordinate arrays (m)."""
     return BoxMesh(np.asarray(x, float), np.asarray(y, float), np.asarray(z, float))

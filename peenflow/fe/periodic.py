@@ -50,6 +50,15 @@ def tie_masters(bc: np.ndarray, nnx: int, nny: int) -> np.ndarray:
     return n - tx * (nnx - 1) - ty * nnx * (nny - 1)
 
 
+def contact_reach(radius: float, contact_time: float, tangential_speed: float, element: float) -> float:
+    """How far (m) a shot's contact zone reaches from its landing point along one axis: the contact
+    search box 1.25 R, the tangential travel during 1.5 estimated contact times (``contact_time`` s,
+    ``tangential_speed`` m s-1 along the axis), and a margin of two elements (``element`` m).  A
+    periodic target's period must exceed twice this (:func:`seam_shift` refuses it otherwise; the
+    stage layer checks a study's REVs with it before any compute)."""
+    return 1.25 * radius + abs(1.5 * contact_time * tangential_speed) + 2.0 * element
+
+
 def seam_shift(model, shot: np.ndarray, vel: np.ndarray, shots: Shots, material: Material,
                options) -> tuple[int, int]:
     """Whole-element roll (:func:`roll`) that keeps a shot's window and
@@ -65,8 +74,7 @@ def seam_shift(model, shot: np.ndarray, vel: np.ndarray, shots: Shots, material:
     a_est, t_est = contact_estimates(shots, material, abs(vel[2]))
     travel = 1.5 * t_est * vel[0:2]
     h = (model.mesh.x_step, model.mesh.y_step)
-    # the contact search box (1.25 R + travel) and a margin of two elements
-    contact = [1.25 * R + abs(travel[a]) + 2.0 * h[a] for a in (0, 1)]
+    contact = [contact_reach(R, t_est, vel[a], h[a]) for a in (0, 1)]
     for a, L in enumerate(model.period):
         if 2.0 * contact[a] >= L:
             raise ValueError(

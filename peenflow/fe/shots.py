@@ -28,6 +28,11 @@ import numpy as np
 from peenflow._jit import jit
 
 
+def sphere_mass(radius: float, density: float) -> float:
+    """Mass (kg) of a solid sphere of ``radius`` (m) and ``density`` (kg m-3)."""
+    return density * 4.0 / 3.0 * math.pi * radius**3
+
+
 @dataclass(frozen=True)
 class Shots:
     """A sequence of identical rigid spherical shots.
@@ -64,7 +69,7 @@ class Shots:
     @property
     def mass(self) -> float:
         """kg"""
-        return self.density * 4.0 / 3.0 * math.pi * self.radius**3
+        return sphere_mass(self.radius, self.density)
 
     @property
     def inertia(self) -> float:

@@ -59,12 +59,22 @@ class WindowValidityWarning(UserWarning):
 
 
 def contact_estimates(shots: Shots, material: Material, vn: float) -> tuple[float, float]:
-    """(contact radius m, contact time s) estimates for window sizing."""
-    h = hertz(shots.radius, shots.mass, max(vn, 1e-9), material.E, material.nu)
-    p = johnson_plastic(shots.radius, shots.mass, max(vn, 1e-9), 3.0 * material.A)
+    """(contact radius m, contact time s) estimates for window sizing (:func:`contact_estimate`)."""
+    return contact_estimate(shots.radius, shots.mass, vn, material.E, material.nu, material.A)
+
+
+def contact_estimate(radius: float, mass: float, normal_speed: float, E: float, nu: float,
+                     yield_stress: float) -> tuple[float, float]:
+    """(contact radius m, contact time s) of a rigid sphere (``radius`` m, ``mass`` kg) hitting at
+    ``normal_speed`` (m s-1) a target of modulus ``E`` (Pa), Poisson ratio ``nu`` and initial yield
+    stress ``yield_stress`` (Pa, Johnson-Cook A): the larger of the Hertz values and those of
+    Johnson's fully plastic contact at mean pressure 3 A.  On floats, so the stage layer checks a
+    study with the rule the kernel sizes its windows, seams and cores by."""
+    h = hertz(radius, mass, max(normal_speed, 1e-9), E, nu)
+    p = johnson_plastic(radius, mass, max(normal_speed, 1e-9), 3.0 * yield_stress)
     a = max(h["a"], p["a"])
     # plastic contact lasts about pi/2 sqrt(m / (2 pi R p)) ~ the Hertz time; take the larger
-    tp = 0.5 * math.pi * math.sqrt(shots.mass / (2.0 * math.pi * shots.radius * 3.0 * material.A))
+    tp = 0.5 * math.pi * math.sqrt(mass / (2.0 * math.pi * radius * 3.0 * yield_stress))
     return a, max(h["t"], tp)
 
 

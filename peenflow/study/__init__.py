@@ -6,7 +6,7 @@ numerical fidelity and the seeds. See ``docs/study-files.md``.
 
     from peenflow.study import load_study
     study = load_study("studies/paper_al7075.toml")
-    study.shot.diameter_m, study.target.material.youngs_modulus_Pa   # 0.00058, 71e9
+    study.shot.diameter_mm, study.target.material.youngs_modulus_GPa   # 0.58, 71.0 (the file's units)
 
 ``load_study`` raises one :class:`StudyError` listing every problem (key path,
 bad value, what is expected); ``validate_study`` returns those messages.

@@ -15,11 +15,12 @@ allowed). ``docs/study-files.md`` lists every bound (a test checks it).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Iterator
 
-__all__ = ["Bound", "BOUNDS", "RELATIVE_BOUNDS", "bound_keys", "check_bounds", "contact_radius_m"]
+from peenflow.units import MM, UM
+
+__all__ = ["Bound", "BOUNDS", "RELATIVE_BOUNDS", "ELEMENTS_PER_CONTACT_RADIUS_MAX", "bound_keys", "check_bounds"]
 
 
 @dataclass(frozen=True)
@@ -121,57 +122,6 @@ def bound_keys() -> list[str]:
     return sorted({b.key for b in BOUNDS} | {k for k, _, _ in RELATIVE_BOUNDS})
 
 
-def _contact_estimates(shot_radius_m: float, shot_density: float, normal_speed: float, E: float, nu: float,
-                       yield_Pa: float) -> tuple[float, float]:
-    """The kernel's (contact radius m, contact time s) estimates (:func:`peenflow.fe.window.contact_estimates`):
-    the larger of the Hertz value and that of Johnson's fully plastic contact at mean pressure 3 A."""
-    mass = shot_density * 4.0 / 3.0 * math.pi * shot_radius_m ** 3
-    v = max(normal_speed, 1e-9)
-    e_star = E / (1.0 - nu ** 2)
-    delta = (15.0 * mass * v ** 2 / (16.0 * e_star * math.sqrt(shot_radius_m))) ** 0.4
-    radius = max(math.sqrt(shot_radius_m * delta),
-                 (2.0 * mass * v ** 2 * shot_radius_m / (math.pi * 3.0 * yield_Pa)) ** 0.25)
-    time = max(2.943 * delta / v, 0.5 * math.pi * math.sqrt(mass / (2.0 * math.pi * shot_radius_m * 3.0 * yield_Pa)))
-    return radius, time
-
-
-def contact_radius_m(shot_radius_m: float, shot_density: float, speed: float, E: float, nu: float,
-                     yield_Pa: float) -> float:
-    """The kernel's contact-radius estimate (m) at normal ``speed``: the larger of the Hertz radius and
-    Johnson's fully plastic radius at mean pressure 3 A."""
-    return _contact_estimates(shot_radius_m, shot_density, speed, E, nu, yield_Pa)[0]
-
-
-def contact_time_s(shot_radius_m: float, shot_density: float, normal_speed: float, E: float, nu: float,
-                   yield_Pa: float) -> float:
-    """The kernel's contact-time estimate (s): the larger of the Hertz duration and the plastic one at
-    mean pressure 3 A."""
-    return _contact_estimates(shot_radius_m, shot_density, normal_speed, E, nu, yield_Pa)[1]
-
-
-def rev_lateral_elements(side_m: float, element_m: float) -> int:
-    """Elements along each lateral edge of a REV of side ``side_m`` at element size ``element_m``
-    (the REV mesh of ``tasks._kernel.rev_mesh``: uniform, the nearest whole number, at least 2)."""
-    return max(2, int(round(side_m / element_m)))
-
-
-def rev_lateral_step_bound_m(side_m: float, element_m: float) -> float:
-    """The largest lateral step the REV mesh can have for these sizes (m): at a tie (side / element
-    = k + 1/2, where the rounding depends on how the two were computed) the one of the fewer elements."""
-    return side_m / rev_lateral_elements(side_m, element_m * (1.0 + 1e-12))
-
-
-def periodic_contact_half_m(shot_radius_m: float, shot_density: float, speed: float, angle_deg: float, E: float,
-                            nu: float, yield_Pa: float, element_m: float) -> float:
-    """Half the period a shot's contact zone needs along its direction of travel on a periodic
-    target (m): the kernel's contact search box ``1.25 R``, the tangential travel during 1.5
-    estimated contact times, and two elements (:func:`peenflow.fe.periodic.seam_shift`, whose
-    ValueError this anticipates)."""
-    a = math.radians(angle_deg)
-    t = contact_time_s(shot_radius_m, shot_density, speed * math.sin(a), E, nu, yield_Pa)
-    return 1.25 * shot_radius_m + 1.5 * t * speed * abs(math.cos(a)) + 2.0 * element_m
-
-
 Problem = tuple[str, object, str]  # (key, value, message)
 
 
@@ -245,31 +195,17 @@ def _relative(s: dict, allowed: set[str]) -> list[Problem]:
     for key, h_um, strips_only in levels:
         if key in allowed:
             continue
-        h_mm = h_um * 1e-3
+        h_mm = h_um * UM / MM
         if h_mm > d_mm / 5.0:
-            out.append((key, h_um, f"larger than D / 5 = {d_mm / 5 * 1e3:.4g} um for the "
+            out.append((key, h_um, f"larger than D / 5 = {d_mm / 5 * MM / UM:.4g} um for the "
                         f"{shot.name} shot (dents of 0.2-0.26 D radius need at least one element across their radius)" + hint.format(key)))
-        worst = None
-        for velocities, mat, where in _impacts(s, strips_only):
-            jc = mat.johnson_cook
-            for v in velocities:
-                a = contact_radius_m(shot.radius_m, shot.density_kg_m3, v, mat.youngs_modulus_Pa,
-                                     mat.poisson_ratio, jc.A_Pa)
-                ratio = h_mm * 1e-3 / a
-                if worst is None or ratio > worst[0]:
-                    worst = (ratio, v, a, where)
-        if worst is not None and worst[0] > ELEMENTS_PER_CONTACT_RADIUS_MAX:
-            ratio, v, a, where = worst
-            out.append((key, h_um, f"{ratio:.3g} estimated contact radii ({a * 1e6:.3g} um at "
-                        f"{v:g} m/s, {where}); the validated range is at most {ELEMENTS_PER_CONTACT_RADIUS_MAX:g} "
-                        "(the stability sweep reaches 7.3: 1 m/s on 100 um, SAE 1070)" + hint.format(key)))
     for name in ("almen", "target"):
         sec = s.get(name)
         if sec is None:
             continue
         # the strips' REV must hold the coarse level's elements too
         h_um = fid.strip_element_size_um if name == "almen" else fid.element_size_um
-        h_mm = h_um * 1e-3
+        h_mm = h_um * UM / MM
         rev, meas = getattr(sec, "rev_size_mm", None), getattr(sec, "measure_size_mm", None)
         k = f"{name}.rev_size_mm"
         if rev is not None and k not in allowed and (rev < d_mm or rev < 10 * h_mm):
@@ -280,15 +216,3 @@ def _relative(s: dict, allowed: set[str]) -> list[Problem]:
             out.append((k, meas, f"smaller than 2 elements of {h_um:g} um ({2 * h_mm:g} mm): nothing to average over"
                         + hint.format(k)))
     return out
-
-
-def _impacts(s: dict, strips_only: bool = False) -> Iterator[tuple[tuple, object, str]]:
-    """(velocities, material, where) of the impacts the study will run (``strips_only``: of the strips)."""
-    almen, target = s.get("almen"), s.get("target")
-    if almen is not None:
-        yield almen.velocities_m_s, almen.strip.material, f"{almen.strip.name} strip"
-    if target is not None and not strips_only:
-        if target.velocity_m_s is not None:
-            yield (target.velocity_m_s,), target.material, "target"
-        elif almen is not None:  # read off the control curve, so inside the almen velocities
-            yield (min(almen.velocities_m_s),), target.material, "target, slowest control-curve velocity"

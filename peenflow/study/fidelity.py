@@ -199,17 +199,6 @@ class Fidelity(ShotScaled):
         """The largest element size the strips run at: the coarse level of an intensity extrapolation, if any."""
         return max(self.element_size_um, self.extrapolate_intensity_from_um or 0.0)
 
-    # SI helpers; the shot diameter is set by the Study after loading.
-    @property
-    def element_size_m(self) -> float:
-        return self.element_size_um * 1e-6
-
-    @property
-    def fine_depth_m(self) -> float:
-        if self.fine_depth_mm is not None:
-            return self.fine_depth_mm * 1e-3
-        return self.fine_depth_D * self.shot_diameter_m
-
     def describe(self) -> str:
         """'standard' or 'standard + element_size_um=30' (for logs and provenance)."""
         if not self.overrides:

@@ -2,13 +2,12 @@
 
 These are what ``[materials.NAME]``, ``[shots.NAME]`` and ``[strips.NAME]``
 tables define (in the packaged library, an included file or the study file
-itself). Fields keep the unit-named values of the file; properties give SI
-(m, kg, s, Pa) for the kernel.
+itself). Fields keep the unit-named values of the file; :mod:`tasks.params`
+converts them to SI for the stages and the kernel.
 """
 
 from __future__ import annotations
 
-import math
 from typing import Optional
 
 from pydantic import Field, model_validator
@@ -55,14 +54,6 @@ class JohnsonCook(StudyModel):
         return self
 
     @property
-    def A_Pa(self) -> float:
-        return self.A_MPa * 1e6
-
-    @property
-    def B_Pa(self) -> float:
-        return self.B_MPa * 1e6
-
-    @property
     def rate_dependent(self) -> bool:
         """False when C = 0: the kernel need not pay for the rate term."""
         return self.C != 0.0
@@ -84,24 +75,6 @@ class Material(StudyModel):
     density_kg_m3: Positive = Field(description="density in kg/m3")
     johnson_cook: JohnsonCook = Field(description="a [johnson_cook] table with A_MPa, B_MPa, C, n, m")
 
-    @property
-    def youngs_modulus_Pa(self) -> float:
-        return self.youngs_modulus_GPa * 1e9
-
-    @property
-    def shear_modulus_Pa(self) -> float:
-        return self.youngs_modulus_Pa / (2.0 * (1.0 + self.poisson_ratio))
-
-    @property
-    def bulk_modulus_Pa(self) -> float:
-        return self.youngs_modulus_Pa / (3.0 * (1.0 - 2.0 * self.poisson_ratio))
-
-    @property
-    def dilatational_wave_speed_m_s(self) -> float:
-        """c = sqrt(E (1 - nu) / (rho (1 + nu) (1 - 2 nu))), for the stable time step."""
-        e, nu, rho = self.youngs_modulus_Pa, self.poisson_ratio, self.density_kg_m3
-        return math.sqrt(e * (1.0 - nu) / (rho * (1.0 + nu) * (1.0 - 2.0 * nu)))
-
 
 class Shot(StudyModel):
     """A peening shot: a rigid sphere (paper section 2.2)."""
@@ -111,18 +84,6 @@ class Shot(StudyModel):
     source: str = ""
     diameter_mm: Positive = Field(description="shot diameter D in mm")
     density_kg_m3: Positive = Field(description="shot density in kg/m3")
-
-    @property
-    def diameter_m(self) -> float:
-        return self.diameter_mm * 1e-3
-
-    @property
-    def radius_m(self) -> float:
-        return 0.5 * self.diameter_m
-
-    @property
-    def mass_kg(self) -> float:
-        return self.density_kg_m3 * math.pi * self.diameter_m**3 / 6.0
 
 
 class Strip(StudyModel):
@@ -144,19 +105,3 @@ class Strip(StudyModel):
                 f"gauge_span_mm = {self.gauge_span_mm!r} must be shorter than length_mm = {self.length_mm!r}"
             )
         return self
-
-    @property
-    def length_m(self) -> float:
-        return self.length_mm * 1e-3
-
-    @property
-    def width_m(self) -> float:
-        return self.width_mm * 1e-3
-
-    @property
-    def thickness_m(self) -> float:
-        return self.thickness_mm * 1e-3
-
-    @property
-    def gauge_span_m(self) -> float:
-        return self.gauge_span_mm * 1e-3

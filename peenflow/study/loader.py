@@ -30,6 +30,7 @@ from typing import Any
 from pydantic import BaseModel, ValidationError
 
 from .._toml import describe_toml_error
+from ..units import MM, UM
 from .bounds import bound_keys, check_bounds
 from .errors import Problem, StudyError, format_value, suggest, translate
 from .fidelity import REMOVED_KEYS, Fidelity, expand_preset
@@ -380,7 +381,9 @@ class _Loader:
                 sections[name] = validated
 
         self.cross_checks(sections, failed)
-        outside = self.bounds(sections, info) if not failed and info is not None else []
+        # the sections that validated are checked against their bounds even when others failed, so
+        # one `check` lists every problem (a failed section has no values to check)
+        outside = self.bounds(sections, info) if info is not None else []
         if self.problems or info is None or failed:
             self.problems += outside
             return None
@@ -459,15 +462,15 @@ class _Loader:
             if target.measured_profile_csv:
                 self.check_profile(Path(target.measured_profile_csv), target)
         if fidelity is not None and shot is not None:
-            if fidelity.element_size_um * 1e-3 >= 0.5 * shot.diameter_mm:
+            if fidelity.element_size_um * UM >= 0.5 * shot.diameter_mm * MM:
                 self.add("fidelity.element_size_um", "an element as large as the "
-                         f"shot radius ({0.5 * shot.diameter_mm * 1e3:g} um) cannot resolve a dent; expected a "
+                         f"shot radius ({0.5 * shot.diameter_mm * MM / UM:g} um) cannot resolve a dent; expected a "
                          "much smaller element", value=fidelity.element_size_um)
             depth_mm = fidelity.fine_depth_mm if fidelity.fine_depth_mm is not None \
                 else fidelity.fine_depth_D * shot.diameter_mm
-            if depth_mm * 1e3 < fidelity.element_size_um:
+            if depth_mm * MM < fidelity.element_size_um * UM:
                 key = "fidelity.fine_depth_mm" if fidelity.fine_depth_mm is not None else "fidelity.fine_depth_D"
-                self.add(key, f"the fine zone ({depth_mm * 1e3:g} um deep) is thinner than one element "
+                self.add(key, f"the fine zone ({depth_mm * MM / UM:g} um deep) is thinner than one element "
                          f"({fidelity.element_size_um:g} um); expected at least one element")
 
     def check_profile(self, file: Path, target: Target) -> None:

@@ -51,10 +51,10 @@ class Study(StudyModel):
 
     @model_validator(mode="after")
     def _share_shot_diameter(self) -> "Study":
-        d = self.shot.diameter_m
+        d = self.shot.diameter_mm
         for section in (self.almen, self.dmin, self.target, self.fidelity):
             if section is not None:
-                section._shot_diameter_m = d
+                section._shot_diameter_mm = d
         # Fix the measured profile's content now (the loader has parsed it
         # already): the key must not change under a loaded study.
         if self.target is not None and self.target.measured_profile_csv and self.target.measured_profile is None:
@@ -62,46 +62,6 @@ class Study(StudyModel):
                 self.target._measured = read_measured_profile(Path(self.target.measured_profile_csv))
             except (OSError, ProfileError) as exc:
                 raise ValueError(f"target.measured_profile_csv: {exc}") from None
-        return self
-
-    @model_validator(mode="after")
-    def _periodic_rev_fits_a_contact(self) -> "Study":
-        """Periodic REV faces: each shot's contact zone -- the kernel's search box (1.25 R each
-        side), an oblique shot's tangential travel during the contact, and 2 elements -- must fit in
-        half a period (``bounds.periodic_contact_half_m``, the kernel's own test, so that a REV that
-        would stop the kernel is refused before anything is computed)."""
-        if self.fidelity.lateral_boundary != "periodic":
-            return self
-        from .bounds import periodic_contact_half_m, rev_lateral_step_bound_m
-
-        for name, section in (("almen", self.almen), ("target", self.target)):
-            size = getattr(section, "rev_size_mm", None) if section is not None else None
-            if size is None:
-                continue
-            h_um = self.fidelity.strip_element_size_um if name == "almen" else self.fidelity.element_size_um
-            # the REV's own lateral step: the side in a whole number of elements
-            step = rev_lateral_step_bound_m(size * 1e-3, h_um * 1e-6)
-            mat = section.strip.material if name == "almen" else section.material
-            if name == "almen":
-                cases = [(v, a) for v in section.velocities_m_s for a in section.angles_deg]
-            elif section.velocity_m_s is not None:
-                cases = [(section.velocity_m_s, section.angle_deg)]
-            elif self.almen is not None:  # read off the control curve: at most its fastest velocity
-                cases = [(max(self.almen.velocities_m_s), section.angle_deg)]
-            else:
-                cases = []
-            for v, angle in cases:
-                half = periodic_contact_half_m(self.shot.radius_m, self.shot.density_kg_m3, v, angle,
-                                               mat.youngs_modulus_Pa, mat.poisson_ratio, mat.johnson_cook.A_Pa,
-                                               step)
-                if size * 1e-3 <= 2.0 * half:
-                    travel = 2.0 * half - 1.25 * self.shot.diameter_m - 4.0 * step
-                    raise ValueError(
-                        f'{name}.rev_size_mm = {size}: with fidelity.lateral_boundary = "periodic" the REV side must '
-                        f"exceed 1.25 D + 4 elements ({step * 1e6:.4g} um: {h_um:g} um fitted to the side) + twice "
-                        "the tangential travel during the "
-                        f"contact ({travel * 1e3:.3g} mm at {v:g} m/s, {angle:g} deg) = {2.0 * half * 1e3:.3g} mm "
-                        "(a shot's contact zone must fit in half a period)")
         return self
 
     @model_validator(mode="after")

@@ -1,9 +1,10 @@
 """The sections of a study file: [shot], [almen], [dmin], [coverage],
 [target], [seeds], [execution]. ([fidelity] lives in fidelity.py.)
 
-Each section is a frozen model whose fields are the file's unit-named keys;
-properties give SI values. Sections with lengths in shot diameters (``*_D``)
-know the shot diameter once the Study is loaded.
+Each section is a frozen model whose fields are the file's unit-named keys, in
+the file's units (:mod:`tasks.params` converts them to SI). Sections with
+lengths in shot diameters (``*_D``) know the shot diameter (mm) once the Study
+is loaded.
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ class ShotSection(StudyModel):
         float, check(lambda x: 0 <= x <= 1, "a Coulomb friction coefficient in [0, 1]")
     ] = Field(0.2, description="Coulomb friction coefficient shot-target")
 
-    # Convenience: the shot's own properties, so study.shot.diameter_m works.
+    # the shot's own properties, as a study reads them
     @property
     def name(self) -> str:
         return self.type.name
@@ -43,20 +44,8 @@ class ShotSection(StudyModel):
         return self.type.diameter_mm
 
     @property
-    def diameter_m(self) -> float:
-        return self.type.diameter_m
-
-    @property
-    def radius_m(self) -> float:
-        return self.type.radius_m
-
-    @property
     def density_kg_m3(self) -> float:
         return self.type.density_kg_m3
-
-    @property
-    def mass_kg(self) -> float:
-        return self.type.mass_kg
 
 
 def _rev_rule_default(data: Any) -> Any:
@@ -215,11 +204,6 @@ class Almen(ShotScaled):
             )
         return self
 
-    @property
-    def rev_thickness_m(self) -> float:
-        """The strip REV is as thick as the strip (section 4.1)."""
-        return self.strip.thickness_m
-
 
 def _resolution_default(data: Any) -> Any:
     if isinstance(data, dict) and "resolution_D" not in data and "resolution_mm" not in data:
@@ -269,20 +253,6 @@ class Dmin(ShotScaled):
         what a target d_min result depends on besides the target itself."""
         keys = ("threshold", "resolution_D", "resolution_mm", "min_distance_D", "max_distance_D", "method")
         return {k: getattr(self, k) for k in keys}
-
-    @property
-    def resolution_m(self) -> float:
-        if self.resolution_mm is not None:
-            return self.resolution_mm * 1e-3
-        return self.resolution_D * self.shot_diameter_m
-
-    @property
-    def min_distance_m(self) -> float:
-        return self.min_distance_D * self.shot_diameter_m
-
-    @property
-    def max_distance_m(self) -> float:
-        return self.max_distance_D * self.shot_diameter_m
 
 
 class Coverage(StudyModel):
@@ -403,11 +373,6 @@ class Target(ShotScaled):
         return self.almen_intensity_mm
 
     @property
-    def intensity_m(self) -> float | None:
-        mm = self.intensity_mm
-        return None if mm is None else mm * 1e-3
-
-    @property
     def intensity_strip(self) -> str | None:
         """Strip type of the target intensity ("A" for "12A")."""
         if self.almen_intensity is not None:
@@ -415,27 +380,18 @@ class Target(ShotScaled):
         return self.almen_strip
 
     @property
-    def thickness_m(self) -> float:
-        return self.thickness_mm * 1e-3
-
-    @property
     def rev_thickness_auto(self) -> bool:
         """True when the REV thickness comes from the convergence check (``"auto"``)."""
         return self.rev_thickness_mm == "auto"
 
     @property
-    def rev_thickness_m(self) -> float:
-        """REV thickness: rev_thickness_mm, else the part thickness (as in section 5).
+    def rev_thickness_given_mm(self) -> float:
+        """REV thickness in mm: rev_thickness_mm, else the part thickness (as in section 5).
 
         With ``"auto"`` this is the part thickness, the most the check can return;
         the REV run takes the checked value from its upstream stage."""
         given = self.rev_thickness_mm if isinstance(self.rev_thickness_mm, float) else None
-        return (given or self.thickness_mm) * 1e-3
-
-    @property
-    def coverage_fraction(self) -> float:
-        """coverage_percent / 100 (N_c = coverage_fraction * N_f)."""
-        return self.coverage_percent / 100.0
+        return given or self.thickness_mm
 
 
 class Seeds(StudyModel):

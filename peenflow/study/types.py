@@ -29,16 +29,16 @@ class StudyModel(BaseModel):
 class ShotScaled(StudyModel):
     """A section with lengths given in shot diameters (``*_D`` keys).
 
-    The loaded Study tells it the shot diameter, so its SI properties work.
+    The loaded Study tells it the shot diameter (mm), so lengths in D can be read.
     """
 
-    _shot_diameter_m: float | None = PrivateAttr(default=None)
+    _shot_diameter_mm: float | None = PrivateAttr(default=None)
 
     @property
-    def shot_diameter_m(self) -> float:
-        if self._shot_diameter_m is None:
+    def shot_diameter_mm(self) -> float:
+        if self._shot_diameter_mm is None:
             raise RuntimeError("shot diameter unknown: use the section of a loaded Study")
-        return self._shot_diameter_m
+        return self._shot_diameter_mm
 
 
 def check(predicate: Callable[[Any], bool], expected: str):

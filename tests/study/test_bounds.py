@@ -9,11 +9,14 @@ import numpy as np
 import pytest
 
 from peenflow.study import load_study, validate_study
-from peenflow.study.bounds import BOUNDS, RELATIVE_BOUNDS, bound_keys, contact_radius_m
+from peenflow.study.bounds import BOUNDS, RELATIVE_BOUNDS, bound_keys
+from tasks.params import MaterialParams, ShotParams
+from tasks.preflight import contact_radius, periodic_contact_half, study_problems
 
 
 def _problems_for(write_study, changes, key):
-    return [p for p in validate_study(write_study(changes)) if p.startswith(key)]
+    """The problems on ``key``: the study's own and the kernel limits the stage layer checks before compute."""
+    return [p for p in study_problems(write_study(changes)) if p.startswith(key)]
 
 
 @pytest.mark.parametrize("changes, key, shown", [
@@ -140,15 +143,15 @@ def test_nan_or_inf_in_the_measured_profile_is_refused(write_study, tmp_path, ba
 
 
 def test_the_contact_radius_estimate_is_the_kernel_s():
-    from peenflow.fe.window import contact_estimates as _contact_estimates
-    from peenflow.fe.johnson_cook import Material
+    """The stage layer's check reads the estimate the kernel sizes its windows by, on the same inputs."""
     from peenflow.fe.shots import Shots
+    from peenflow.fe.window import contact_estimates
 
-    mat = Material(E=71e9, nu=0.33, density=2800.0, A=434e6, B=303e6, n=0.3, C=0.01, m=0.0, ref_strain_rate=1.0)
+    material = MaterialParams(71e9, 0.33, 2800.0, 434e6, 303e6, 0.3, 0.01, 0.0, 1.0, None, None)
+    shot = ShotParams(0.29e-3, 7800.0, 0.2)
     for v in (1.0, 5.0, 55.0, 400.0):
-        shots = Shots([[0, 0, -1.0]], [[0, 0, v]], 0.29e-3, 7800.0)
-        a_kernel, _ = _contact_estimates(shots, mat, v)
-        assert math.isclose(contact_radius_m(0.29e-3, 7800.0, v, 71e9, 0.33, 434e6), a_kernel, rel_tol=1e-12)
+        a_kernel, _ = contact_estimates(Shots([[0, 0, -1.0]], [[0, 0, v]], 0.29e-3, 7800.0), material.to_kernel(), v)
+        assert contact_radius(shot, material, v) == a_kernel
 
 
 def test_every_bound_is_documented():
@@ -173,15 +176,14 @@ def test_the_documented_example_message_is_the_real_one(write_study):
 
 @pytest.mark.parametrize("speed, angle_deg, h", [(30.0, 65.0, 40e-6), (55.0, 45.0, 25e-6), (47.0, 90.0, 60e-6)])
 def test_the_periodic_contact_zone_is_the_kernel_s(speed, angle_deg, h):
-    """The study's periodic-REV check (bounds.periodic_contact_half_m) is the kernel's own test in
-    seam_shift: a period just under twice it is refused by the kernel, one just over is not."""
+    """The stage layer's periodic-REV check (tasks.preflight.periodic_contact_half) is the kernel's own
+    test in seam_shift: a period just under twice it is refused by the kernel, one just over is not."""
     from types import SimpleNamespace
 
     from peenflow.fe.johnson_cook import Material
     from peenflow.fe.periodic import seam_shift
     from peenflow.fe.shots import Shots
     from peenflow.fe import Options
-    from peenflow.study.bounds import periodic_contact_half_m
 
     E, nu, rho, A = 71e9, 0.33, 2800.0, 434e6
     mat = Material(E=E, nu=nu, density=rho, A=A, B=303e6, n=0.3, C=0.0, m=0.0, ref_strain_rate=1.0)
@@ -190,7 +192,8 @@ def test_the_periodic_contact_zone_is_the_kernel_s(speed, angle_deg, h):
     vel = np.array([speed * math.cos(a), 0.0, speed * math.sin(a)])
     shot = np.array([0.0, 0.0, -R - 1e-6])
     shots = Shots([shot], [vel], R, rho_s)
-    half = periodic_contact_half_m(R, rho_s, speed, angle_deg, E, nu, A, h)
+    half = periodic_contact_half(ShotParams(R, rho_s, 0.2),
+                                 MaterialParams(E, nu, rho, A, 303e6, 0.3, 0.0, 0.0, 1.0, None, None), speed, angle_deg, h)
 
     def model(period):
         n = 16

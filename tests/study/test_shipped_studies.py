@@ -32,14 +32,13 @@ def test_paper_almen_study_matches_section_4():
     s = load_study(STUDIES / "paper_almen_s230.toml")
     assert {"strip_dmin", "control_curve"} <= _stages("paper_almen_s230.toml")
     assert not any(x.startswith("target") for x in _stages("paper_almen_s230.toml"))
-    assert s.shot.name == "S230" and s.shot.diameter_m == pytest.approx(0.58e-3)
+    assert s.shot.name == "S230" and s.shot.diameter_mm == 0.58 and study_params(s).shot.diameter_m == pytest.approx(0.58e-3)
     assert s.shot.density_kg_m3 == 7800.0 and s.shot.friction_coefficient == 0.2
     a = s.almen
-    assert a.strip.name == "A" and a.strip.thickness_m == pytest.approx(1.29e-3)
-    assert a.strip.gauge_span_m == pytest.approx(31.75e-3)
+    assert a.strip.name == "A" and a.strip.thickness_mm == 1.29 and a.strip.gauge_span_mm == 31.75
     m = a.strip.material
-    assert (m.name, m.youngs_modulus_Pa, m.poisson_ratio, m.density_kg_m3) == ("SAE1070", 205e9, 0.29, 7800.0)
-    jc = m.johnson_cook
+    assert (m.name, m.youngs_modulus_GPa, m.poisson_ratio, m.density_kg_m3) == ("SAE1070", 205.0, 0.29, 7800.0)
+    jc = study_params(s).strip_material
     assert (jc.A_Pa, jc.B_Pa, jc.C, jc.n, jc.m) == (1408e6, pytest.approx(600.8e6), 0.0134, 0.234, 0.0)
     assert a.angles_deg == (45.0, 67.5, 90.0)
     assert a.velocities_m_s == (25.0, 35.0, 45.0, 55.0)
@@ -49,7 +48,7 @@ def test_paper_almen_study_matches_section_4():
     assert rev.side == pytest.approx(6 * 0.58e-3) and rev.measuring_side == pytest.approx(2 * 0.58e-3)
     assert s.dmin.strip_velocity_m_s == 55.0 and s.dmin.strip_angles_deg == (45.0, 90.0)
     assert s.dmin.threshold == 0.05
-    assert s.fidelity.preset == "paper" and s.fidelity.element_size_m == pytest.approx(25e-6)
+    assert s.fidelity.preset == "paper" and s.fidelity.element_size_um == 25.0
     assert s.target is None
 
 
@@ -61,11 +60,12 @@ def test_paper_al7075_study_matches_section_5():
     assert {"strip_dmin", "control_curve", "target_dmin", "coverage_curve", "residual_profile"} <= _stages(
         "paper_al7075.toml")
     t = s.target
-    assert t.material.name == "Al7075-T73" and t.material.youngs_modulus_Pa == 71e9
+    assert t.material.name == "Al7075-T73" and study_params(s).target_material.youngs_modulus_Pa == 71e9
     assert t.material.johnson_cook.A_MPa == 434.0 and t.material.johnson_cook.B_MPa == 303.58
     assert not t.material.johnson_cook.rate_dependent and not t.material.johnson_cook.thermal
-    assert t.thickness_m == pytest.approx(9.5e-3) and t.rev_thickness_m == pytest.approx(9.5e-3)
-    assert t.angle_deg == 65.0 and t.coverage_fraction == 2.0 and t.sequences == 2
+    plan = study_params(s).target_plan
+    assert plan.thickness_m == pytest.approx(9.5e-3) and plan.rev_thickness_m == pytest.approx(9.5e-3)
+    assert t.angle_deg == 65.0 and t.coverage_percent == 200.0 and t.sequences == 2
     assert t.intensity_mm == 0.30 and t.intensity_strip == "A"
     assert {"target_velocity", "control_curve"} <= _stages("paper_al7075.toml")
     assert study_params(s).target_rev.geometry(d_min=1.5e-3).side == pytest.approx(4.5e-3)
@@ -85,7 +85,7 @@ def test_quickstart_is_coarse_and_runs_the_whole_chain():
     assert 0 < rev.measuring_side < rev.side
     assert s.target.intensity_mm is not None and s.target.velocity_m_s is None  # velocity from the curve
     assert s.target.material.name == "Al7075-T73"
-    assert math.isfinite(s.target.material.dilatational_wave_speed_m_s)
+    assert math.isfinite(study_params(s).target_material.to_kernel().wave_speed)
 
 
 def _point_params(name, stage):
@@ -116,13 +116,13 @@ def test_the_literal_studies_are_the_papers_section_4_procedure():
     assert a.angles_deg == (67.5,) and a.velocities_m_s == (25.0, 35.0, 45.0, 55.0)
     assert a.shot_counts == (10, 20, 40, 80, 160, 320, 480) and a.saturation_fit == "paper"
     assert a.rev_rule == "paper" and a.allow_extrapolated_intensity
-    assert s.fidelity.lateral_boundary == "symmetric" and s.fidelity.element_size_m == pytest.approx(40e-6)
+    assert s.fidelity.lateral_boundary == "symmetric" and s.fidelity.element_size_um == 40.0
     rev = study_params(s).strip_rev.geometry(d_min=None)
     assert rev.side == pytest.approx(6 * 0.58e-3) and rev.measuring_side == pytest.approx(2 * 0.58e-3)
     assert "strip_dmin" not in _stages("paper_literal_40um.toml")  # the paper's REV needs no search
 
     fine = load_study(STUDIES / "paper_literal.toml")
-    assert fine.fidelity.element_size_m == pytest.approx(25e-6)
+    assert fine.fidelity.element_size_um == 25.0
     assert fine.fidelity.extrapolate_intensity_from_um == 40.0
     mine = _point_params("paper_literal.toml", "coarse_strip_runs")
     assert len(mine) == 8 and mine == _point_params("paper_literal_40um.toml", "strip_runs")

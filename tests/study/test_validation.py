@@ -133,8 +133,6 @@ CASES = [
      ['almen.rev_size_mm is given but rev_rule = "paper"']),
     ("profile-missing", {"target.measured_profile_csv": "nope.csv"},
      ["target.measured_profile_csv = ", "nope.csv", "measured profile not found"]),
-    ("periodic-rev-too-small", {"fidelity.lateral_boundary": "periodic", "target.rev_size_mm": 0.5},
-     ['target.rev_size_mm = 0.5: with fidelity.lateral_boundary = "periodic" the REV side must exceed']),
     ("nothing-to-compute", {"almen": DELETE, "target": DELETE}, ["nothing to compute: add an [almen] section"]),
     ("extrapolation-level-not-coarser", {"fidelity.element_size_um": 25.0, "fidelity.extrapolate_intensity_from_um": 30.0},
      ["fidelity.extrapolate_intensity_from_um = 30.0: expected a coarser level than element_size_um = 25 um, "
@@ -152,19 +150,41 @@ CASES = [
     ("dent-level-without-target", {"target": DELETE, "fidelity.element_size_um": 25.0,
                                    "fidelity.dent_element_size_um": 12.5},
      ["fidelity.dent_element_size_um refines the single impact of the [target] section", "no [target] section"]),
+    ("extrapolation-order-alone", {"fidelity.intensity_extrapolation_order": 2.0},
+     ["fidelity.intensity_extrapolation_order = 2.0: given without fidelity.extrapolate_intensity_from_um"]),
+]
+
+
+# limits of the kernel's own (tasks.preflight): refused by the stage layer, before any compute
+KERNEL_CASES = [
+    ("periodic-rev-too-small", {"fidelity.lateral_boundary": "periodic", "target.rev_size_mm": 0.5,
+                                "study.allow_outside_bounds": ["target.rev_size_mm"]},
+     ['target.rev_size_mm = 0.5: with fidelity.lateral_boundary = "periodic" the REV side must exceed']),
     ("periodic-oblique-travel", {"fidelity.lateral_boundary": "periodic", "fidelity.element_size_um": 40.0,
                                  "target.rev_size_mm": 0.9, "target.almen_intensity": DELETE,
                                  "target.velocity_m_s": 30.0, "target.angle_deg": 65.0},
      ['target.rev_size_mm = 0.9: with fidelity.lateral_boundary = "periodic" the REV side must exceed 1.25 D + 4 '
       "elements (40.91 um: 40 um fitted to the side) + twice the tangential travel during the contact (0.0455 mm at 30 m/s, 65 deg) = 0.934 mm"]),
-    ("extrapolation-order-alone", {"fidelity.intensity_extrapolation_order": 2.0},
-     ["fidelity.intensity_extrapolation_order = 2.0: given without fidelity.extrapolate_intensity_from_um"]),
     ("extrapolation-coarse-rev", {"fidelity.element_size_um": 25.0, "fidelity.extrapolate_intensity_from_um": 40.0,
                                   "fidelity.lateral_boundary": "periodic", "almen.rev_rule": "explicit",
                                   "almen.rev_size_mm": 0.85, "target.rev_size_mm": 1.2},
      ['almen.rev_size_mm = 0.85: with fidelity.lateral_boundary = "periodic" the REV side must exceed 1.25 D + 4 '
       "elements (40.48 um: 40 um fitted to the side)"]),
 ]
+
+
+@pytest.mark.parametrize("changes, expected", [c[1:] for c in KERNEL_CASES], ids=[c[0] for c in KERNEL_CASES])
+def test_a_study_the_kernel_would_stop_is_refused_before_compute(write_study, changes, expected):
+    from tasks.pipeline import build_graph
+    from tasks.preflight import study_problems
+
+    path = write_study(changes)
+    assert validate_study(path) == []  # the file itself is valid
+    problems = study_problems(path)
+    assert [p for p in problems if all(s in p for s in expected)], "\n".join(problems)
+    with pytest.raises(StudyError) as info:
+        build_graph(path)
+    assert info.value.problems == problems and str(path) in str(info.value)
 
 
 @pytest.mark.parametrize("changes, expected", [c[1:] for c in CASES], ids=[c[0] for c in CASES])

@@ -24,19 +24,23 @@ def test_bad_intensity_notation(text):
         parse_intensity(text)
 
 
-def test_si_accessors(write_study):
+def test_si_conversions(write_study):
+    """The study keeps the file's units; the typed parameters are its values in SI (tasks.params)."""
+    from tasks.params import study_params
+
     s = load_study(write_study({"target.rev_thickness_mm": 2.0, "dmin.resolution_mm": 0.01}))
-    m = s.target.material
-    assert m.youngs_modulus_Pa == 71e9 and m.johnson_cook.A_Pa == 434e6 and m.johnson_cook.B_Pa == pytest.approx(303.58e6)
-    assert m.shear_modulus_Pa == pytest.approx(71e9 / 2.66)
-    assert m.dilatational_wave_speed_m_s == pytest.approx(6151, rel=1e-3)
-    assert s.almen.strip.material.dilatational_wave_speed_m_s == pytest.approx(5870, rel=1e-3)  # DESIGN: c = 5870 m/s
-    assert s.target.rev_thickness_m == pytest.approx(2e-3) and s.target.thickness_m == pytest.approx(9.5e-3)
-    assert s.target.intensity_m == pytest.approx(0.3048e-3)
-    assert s.dmin.resolution_m == pytest.approx(1e-5)
-    assert s.dmin.min_distance_m == pytest.approx(0.58e-3) and s.dmin.max_distance_m == pytest.approx(4 * 0.58e-3)
-    assert s.dmin.search_settings()["threshold"] == 0.05
-    assert s.fidelity.element_size_m == pytest.approx(60e-6) and s.fidelity.fine_depth_m == pytest.approx(0.75 * 0.58e-3)
+    assert s.target.material.youngs_modulus_GPa == 71.0 and s.target.thickness_mm == 9.5  # as written
+    p = study_params(s)
+    m = p.target_material
+    assert m.youngs_modulus_Pa == 71e9 and m.A_Pa == 434e6 and m.B_Pa == pytest.approx(303.58e6)
+    assert m.to_kernel().wave_speed == pytest.approx(6151, rel=1e-3)
+    assert p.strip_material.to_kernel().wave_speed == pytest.approx(5870, rel=1e-3)  # DESIGN: c = 5870 m/s
+    assert p.target_plan.rev_thickness_m == pytest.approx(2e-3) and p.target_plan.thickness_m == pytest.approx(9.5e-3)
+    assert p.target.intensity_m == pytest.approx(0.3048e-3)
+    assert p.dmin.resolution_m == pytest.approx(1e-5)
+    assert p.dmin.min_distance_m == pytest.approx(0.58e-3) and p.dmin.max_distance_m == pytest.approx(4 * 0.58e-3)
+    assert p.dmin.threshold == 0.05
+    assert p.fidelity.element_size_m == pytest.approx(60e-6) and p.fidelity.fine_depth_m == pytest.approx(0.75 * 0.58e-3)
 
 
 def test_dmin_defaults_follow_the_almen_sweep(write_study):
@@ -65,7 +69,9 @@ PINNED_SEED = 2442197824987076069  # sha256("peenflow-seed:7:almen:0"), first 8 
 
 def test_fidelity_fine_depth_in_mm_replaces_the_presets_diameters(write_study):
     s = load_study(write_study({"fidelity.fine_depth_mm": 0.5}))
-    assert s.fidelity.fine_depth_D is None and s.fidelity.fine_depth_m == pytest.approx(0.5e-3)
+    from tasks.params import study_params
+
+    assert s.fidelity.fine_depth_D is None and study_params(s).fidelity.fine_depth_m == pytest.approx(0.5e-3)
     problems = validate_study(write_study({"fidelity.fine_depth_mm": 0.5, "fidelity.fine_depth_D": 1.0}))
     assert problems == ["fidelity: give exactly one of fine_depth_D and fine_depth_mm"]
 

@@ -37,7 +37,7 @@ def micro():
 @pytest.mark.parametrize("speed", [1.0, 2.0, 5.0])
 def test_a_slow_target_impact_finishes_elastically(micro, speed):
     s, shot, fid, mat = micro
-    D = s.shot.diameter_m
+    D = shot.diameter_m
     _, res = run_single_impact(mat, shot, fid, speed, 90.0, IMPACT_BLOCK_D * D, 1e-3, record=False)
     # below yield: the shot bounces back almost elastically, the energy balance closes
     assert res.shots["restitution"][0] > 0.95

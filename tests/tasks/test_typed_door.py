@@ -32,10 +32,12 @@ def test_only_build_graph_reads_the_study():
             names = {n.id for n in ast.walk(fn) if isinstance(n, ast.Name)}
             if names & {"study", "load_study"}:
                 readers[fn.name] = sorted(names & {"study", "load_study"})
-    assert readers == {"build_graph": ["load_study"]}
+    assert readers == {"build_graph": ["load_study", "study"]}
     build = next(f for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and f.name == "build_graph")
     body = [s for s in build.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
-    assert ast.unparse(body[0]) == "return graph_for(study_params(load_study(path)))"
+    # read, translate, check against the kernel's limits (before any compute), build from the parameters
+    assert [ast.unparse(s) for s in body] == ["study = load_study(path)", "p = study_params(study)",
+                                              "check_before_compute(study, p)", "return graph_for(p)"]
 
 
 def _points(graph) -> list[tuple]:
