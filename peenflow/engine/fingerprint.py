@@ -14,8 +14,11 @@ A task's code is its own module (less its other tasks) plus every module of
 its own top-level package that it imports, directly or through another such
 module (:func:`local_imports`): a helper module shared by two stages, or a
 stage module another stage imports, is part of both stages' code.  Modules
-outside that package enter only when the task declares them (``uses``), so
-an edit to the engine or to a third-party library invalidates nothing.
+outside that package enter only when the task declares them (``uses``) --
+together with every module of the used package's own top-level package that
+it imports (:func:`used_closure`: a kernel package's compile settings in a
+sibling module are the kernel's code too) -- so an edit to the engine or to a
+third-party library invalidates nothing.
 """
 
 from __future__ import annotations
@@ -159,6 +162,43 @@ def local_imports(module_name: str) -> tuple[str, ...]:
     return tuple(sorted(seen))
 
 
+@functools.lru_cache(maxsize=None)
+def used_closure(module_name: str) -> tuple[str, ...]:
+    """The modules of ``module_name``'s top-level package that ``module_name`` -- a module, or every
+    module of a package -- imports, directly or transitively, outside ``module_name`` itself (sorted).
+
+    ``uses=("peenflow.fe",)`` fingerprints the kernel package; the kernel's modules import
+    ``peenflow._jit`` (how every kernel function is compiled), which is then part of the kernel's code.
+    """
+    top = module_name.partition(".")[0]
+    origin = _module_file(module_name)
+    if origin is None:
+        return ()
+    if Path(origin).name == "__init__.py":
+        root = Path(origin).parent
+        members = {module_name + "".join("." + part for part in f.relative_to(root).with_suffix("").parts)
+                   for f in root.rglob("*.py")}
+        members = {m[: -len(".__init__")] if m.endswith(".__init__") else m for m in members}
+    else:
+        members = {module_name}
+    inside = lambda m: m == module_name or m.startswith(module_name + ".")  # noqa: E731
+    seen, todo, out = set(members), list(members), set()
+    while todo:
+        name = todo.pop()
+        path = _module_file(name)
+        if path is None:
+            continue
+        tree = parse(Path(path).read_text(encoding="utf-8"))
+        for dep in _imported_modules(tree, name, Path(path).name == "__init__.py"):
+            if dep.partition(".")[0] != top or dep in seen or not _is_module(dep):
+                continue
+            seen.add(dep)
+            todo.append(dep)
+            if not inside(dep):
+                out.add(dep)
+    return tuple(sorted(out))
+
+
 def _is_task_def(node: ast.AST) -> bool:
     if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
         return False
@@ -182,7 +222,7 @@ def _task_fingerprint(path: str, fn_name: str) -> str:
 def clear_fingerprint_cache() -> None:
     """Forget every cached fingerprint and import closure, so that edits made on
     disk since they were taken are seen (tests; a long-lived client)."""
-    for cached in (_file_fingerprint, _task_fingerprint, local_imports, _module_file):
+    for cached in (_file_fingerprint, _task_fingerprint, local_imports, used_closure, _module_file):
         cached.cache_clear()
 
 

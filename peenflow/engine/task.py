@@ -16,8 +16,9 @@ returns an :class:`xarray.Dataset`::
   ``status`` then flags results whose code changed under the same version
   as *stale*;
 * ``uses``: modules/packages whose source also enters the code fingerprint
-  (the kernel a task calls), on top of the task's own module and the modules
-  of its own package that it imports (followed transitively);
+  (the kernel a task calls) with what they import from their own top-level
+  package, on top of the task's own module and the modules of its own
+  package that it imports (followed transitively);
 * typed parameters: a parameter whose annotation is a class with
   ``__canonical__()`` and ``from_canonical(value)`` (``X`` or ``X | None``)
   enters the key as its canonical form and reaches the task rebuilt from
@@ -34,7 +35,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from .canonical import digest
-from .fingerprint import function_fingerprint, local_imports, module_fingerprint
+from .fingerprint import function_fingerprint, local_imports, module_fingerprint, used_closure
 
 
 @dataclass(frozen=True)
@@ -61,6 +62,9 @@ class Task:
         parts = [f"task:{function_fingerprint(self.fn)}"]
         parts += [f"{m}:{module_fingerprint(m)}" for m in local_imports(self.module)]
         parts += [f"{m}:{module_fingerprint(m)}" for m in sorted(self.uses)]
+        # what the used packages import from their own top-level package (the kernel's compile settings)
+        extra = sorted({d for m in self.uses for d in used_closure(m)} - set(self.uses) - set(local_imports(self.module)))
+        parts += [f"{m}:{module_fingerprint(m)}" for m in extra]
         return digest("\n".join(parts))
 
     def code_id(self) -> str:
