@@ -62,7 +62,7 @@ def _target_levels(data: dict) -> dict[float, dict]:
     compare paired); the profile figures recomputed from those sequences' mean profile."""
     from bench_reference import _parse_level, profile_metrics
 
-    from tasks.headline import compressive_depth
+    from peenflow.methods.profile_features import compressive_depth
 
     by_h: dict[float, dict] = {}
     for k, v in data.items():
@@ -309,7 +309,7 @@ def _first_sequence(v: dict) -> dict:
     """A target level's first-sequence profile and its figures (compressive depth by the headline's rule)."""
     from bench_reference import profile_metrics
 
-    from tasks.headline import compressive_depth
+    from peenflow.methods.profile_features import compressive_depth
 
     z, sxx = np.asarray(v["z_mm"]), np.asarray(v["sequence_sxx_MPa"][0])
     depth_m, _ = compressive_depth(z * 1e-3, sxx * 1e6)

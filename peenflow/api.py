@@ -15,9 +15,10 @@ from pathlib import Path
 
 import xarray as xr
 
+from tasks.pipeline import build_graph
+
 from .engine import DirectoryStore, Graph, load_graph, stage_result
 
-DEFAULT_PIPELINE = "tasks.pipeline:build_graph"
 STORE_ENV = "PEENFLOW_STORE"
 
 
@@ -30,7 +31,8 @@ def default_store_path(study_path: str | os.PathLike) -> Path:
 
 
 def load_study_graph(study_path: str | os.PathLike) -> Graph:
-    return load_graph(Path(study_path), DEFAULT_PIPELINE)
+    """The study's graph: its ``pipeline =`` plug-in if it names one, else the methodology's."""
+    return load_graph(Path(study_path), build_graph)
 
 
 def open_store(study_path, store: str | os.PathLike | None = None) -> DirectoryStore:

@@ -3,6 +3,8 @@
 The one place that translates: :mod:`tasks.params` reads the validated study
 once into typed parameters in SI and converts them to the kernel's objects;
 :mod:`tasks.pipeline` wires the stages into a graph (``STAGES`` names them);
-every stage returns an SI Dataset with CF ``units``, and only the edges
-(:mod:`tasks.headline`, :mod:`tasks.plots`, :mod:`tasks.report`) show mm and MPa.
+:mod:`tasks.preflight` checks a study against the kernel's own limits before
+any compute; every stage declares its outputs (:mod:`tasks.outputs`) and
+returns an SI Dataset with CF ``units``.  The views of the results (headline,
+plots, report.html) are :mod:`peenflow.report`'s.
 """

@@ -15,7 +15,7 @@
     target_impact -> target_dmin -> target_rev                       (no target.rev_size_mm)
     target_indentation + target_rev -> coverage_curve
     target_rev + target_velocity + coverage_curve -> target_runs[sequence] -> residual_profile
-    after a run: plots of whatever is done (PNG) and report.html, in the store (report_dir)
+    (the headline, plots and report.html are peenflow.report's, attached by the verbs)
 
 Each task receives only the parameters it uses -- typed, in SI, read once by
 :func:`tasks.params.study_params` -- so editing one section of a study
@@ -37,13 +37,10 @@ from .arc_height import arc_height
 from .control_curve import control_curve
 from .coverage_curve import coverage_curve
 from .dmin import dmin
-from .headline import headline_numbers
 from .indentation import indentation
 from .intensity_extrapolation import intensity_extrapolation
 from .params import StripSweep, StudyParams, study_params
 from .preflight import check_before_compute
-from .plots import write_plots
-from .report import write_report
 from .residual_profile import residual_profile
 from .rev_size import rev_size
 from .rev_thickness import rev_thickness
@@ -184,15 +181,7 @@ def graph_for(p: StudyParams) -> Graph:
     unknown = set(g.stages) - set(STAGES)
     if unknown:  # a programming error: a stage added without its name in STAGES
         raise RuntimeError(f"stages missing from tasks.pipeline.STAGES: {sorted(unknown)}")
-    about = {**p.names, "coverage_percent": t.coverage_percent if t is not None else None}
-    g.headline = headline_numbers
-
-    def plots_and_report(graph, store):
-        out = report_dir(store, p.path)
-        written = write_plots(graph, store, out, about)
-        return written + [write_report(graph, store, out, p.path, written)]
-
-    g.reports.append(plots_and_report)
+    g.labels = {**p.names, "coverage_percent": t.coverage_percent if t is not None else None}
     return g
 
 
@@ -229,16 +218,3 @@ def _strip_level(g: Graph, p: StudyParams, rev, fidelity, prefix: str = ""):
                   stage=prefix + "arc_height")
     return g.sweep(saturation, dims=sweep, upstream={"arc": arc}, stage=prefix + "saturation", params={
         "fit": strips.saturation_fit, **({} if p.sequences is None else {"sequences": p.sequences})})
-
-
-def report_dir(store, study_path: Path) -> Path:
-    """Where a study's plots (and report) go: in its store, one folder per study file.
-
-    ``<store>/reports/<file stem>-<8 hex of the file's absolute path>``: never a
-    tracked folder, and neither a copy of the study elsewhere nor another study
-    run into the same ``--store`` overwrites them.
-    """
-    from peenflow.engine.canonical import digest
-
-    resolved = Path(study_path).resolve()
-    return Path(store.root) / "reports" / f"{resolved.stem}-{digest(str(resolved), 8)}"

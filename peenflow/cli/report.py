@@ -6,6 +6,7 @@ The report opens in a browser straight from disk (no server).
 
 from __future__ import annotations
 
+from ..report import applies, write_reports
 from ._common import UserError, add_study, load
 
 NAME = "report"
@@ -18,11 +19,10 @@ def add_arguments(p) -> None:
 
 def main(args) -> int:
     graph, store = load(args)
-    if not graph.reports:
-        raise UserError(f"study {graph.name!r}: its pipeline writes no report")
+    if not applies(graph):
+        raise UserError(f"study {graph.name!r}: its pipeline has none of the stages the report reads")
     if not store.root.exists():
         raise UserError(f"no results yet in {store.root}: run `peenflow run {args.study}` first")
-    for report in graph.reports:
-        for path in report(graph, store) or ():
-            print(f"wrote {path}")
+    for path in write_reports(graph, store, args.study):
+        print(f"wrote {path}")
     return 0

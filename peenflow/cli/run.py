@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..engine import Reporter, SchedulerUnreachable, execute
+from ..report import headline_rows, write_reports
 from ._common import UserError, add_study, load, stage_nodes
 from ._interrupts import stop_on_signals
 from .status import print_plan
@@ -60,24 +61,13 @@ def execute_and_report(args, graph, store, nodes, forced=frozenset()) -> int:
                       "run again to resume")
         return 128 + stopped["signal"]
     print_headline(graph, store, reporter.line)
-    for report in graph.reports:
-        try:
-            for path in report(graph, store) or ():
-                reporter.line(f"wrote {path}")
-        except Exception as exc:  # a failed plot never hides the run's own outcome
-            reporter.line(f"report {getattr(report, '__name__', report)} failed: {type(exc).__name__}: {exc}")
+    try:
+        for path in write_reports(graph, store, args.study):
+            reporter.line(f"wrote {path}")
+    except Exception as exc:  # a failed plot never hides the run's own outcome
+        reporter.line(f"report failed: {type(exc).__name__}: {exc}")
     bad = [o for o in outcomes if not o.ok]
     return 1 if bad else 0
-
-
-def headline_rows(graph, store) -> list:
-    """The study's headline numbers from what is done ([] if it has none, or they fail)."""
-    if graph.headline is None:
-        return []
-    try:
-        return list(graph.headline(graph, store))
-    except Exception as exc:  # a failed summary never hides the run's own outcome
-        return [("headline numbers", "failed", f"{type(exc).__name__}: {exc}")]
 
 
 def print_headline(graph, store, emit=print) -> None:

@@ -28,7 +28,7 @@ from pathlib import Path
 from .cores import CoreBudget, set_active_budget, wanted_threads
 from .graph import Graph, Group, Node
 from .lease import STALE_AFTER_S
-from .report import Reporter
+from .progress import Reporter
 from .runner import Outcome, PointSpec, UpstreamRef, run_node
 from .store import DirectoryStore
 

@@ -109,14 +109,10 @@ class Graph:
         self.name = name
         self.nodes: list[Node] = []
         self._stages: dict[str, Task] = {}
-        #: ``f(graph, store) -> list of written paths``, called after a run on what is done
-        #: (reports and plots: outside the store, so not part of any key)
-        self.reports: list = []
         #: execution defaults a study may set (``workers``, ``threads``); command-line flags win
         self.execution: dict = {}
-        #: ``f(graph, store) -> [(quantity, value, note)]``: the study's headline numbers from
-        #: whatever is done, printed after a run and tabled in the report (None: none)
-        self.headline = None
+        #: names a person reads in views of the results (never part of a key): ``{what: name}``
+        self.labels: dict = {}
         #: attributes of sweep coordinates in stored results, ``{dim: {"units": ..., "long_name": ...}}``
         self.coord_attrs: dict = {}
         #: attributes written on every result this graph computes, outside every key and content

@@ -31,6 +31,8 @@ from typing import Callable
 
 from .canonical import canonical_json
 from .graph import Graph, Group, Node, Sweep
+from .point_states import plan_items
+from .reasons import State
 
 
 @dataclass(frozen=True)
@@ -84,9 +86,6 @@ def _groups(sweep: Sweep) -> dict[str, list[Node]]:
 
 def _stored(graph: Graph, store, members: list[Node]) -> list | None:
     """The members' stored Datasets (in order), or None if any is not stored yet."""
-    from .planner import plan_items
-    from .reasons import State
-
     items = {id(i.node): i for i in plan_items(graph, store, graph.ancestors(members))}
     out = []
     for n in members:

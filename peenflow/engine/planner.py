@@ -1,50 +1,17 @@
 """What ``status`` and ``run --dry-run`` show: each point's state and reason.
 
-The planner applies the same rules as the runner (``keys.reason_against_slot``,
-``store.check``) without computing anything.  A point whose upstream is not
-yet computed has no key yet (keys include upstream *content*); it is shown
-as pending with the reason judged from what is known.
+The planner grows the graph's growing sweeps from what the store holds
+(:mod:`.growth`), then states every point (:func:`.point_states.plan_items`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
-from .graph import Graph, Group, Node
-from .keys import KeyParts, reason_against_slot
-from .lease import STALE_AFTER_S
-from .reasons import Reason, State
+from .graph import Graph, Node
+from .growth import resolve, with_grown
+from .point_states import PlanItem, plan_items
 from .store import DirectoryStore
 
-
-@dataclass
-class PlanItem:
-    node: Node
-    key: str | None
-    state: State
-    reason: Reason
-    detail: str = ""
-    content_hash: str | None = None
-    progress: dict | None = None
-
-
-def _upstream_hashes(node: Node, items: dict) -> dict | None:
-    out = {}
-    for name, up in node.upstream.items():
-        if isinstance(up, Group):
-            pairs = []
-            for n in up.nodes:
-                h = items[id(n)].content_hash
-                if h is None:
-                    return None
-                pairs.append([n.label, h])
-            out[name] = sorted(pairs)
-        else:
-            h = items[id(up)].content_hash
-            if h is None:
-                return None
-            out[name] = h
-    return out
+__all__ = ["PlanItem", "plan", "plan_items"]
 
 
 def plan(graph: Graph, store: DirectoryStore, nodes: list[Node] | None = None,
@@ -56,72 +23,6 @@ def plan(graph: Graph, store: DirectoryStore, nodes: list[Node] | None = None,
     sweep already has a point there.
     """
     if graph.growing:
-        from .growth import resolve, with_grown
-
         added = resolve(graph, store)
         nodes = None if nodes is None else with_grown(graph, nodes, added)
     return plan_items(graph, store, nodes, forced)
-
-
-def plan_items(graph: Graph, store: DirectoryStore, nodes: list[Node] | None = None,
-               forced: set[str] = frozenset()) -> list[PlanItem]:
-    """:func:`plan` of the graph as it stands (no growth)."""
-    nodes = graph.nodes if nodes is None else nodes
-    items: dict[int, PlanItem] = {}
-    for node in nodes:
-        task = node.task
-        code = task.code_id()
-        slot = store.slot(graph.name, node.stage, node.label)
-        ups = _upstream_hashes(node, items)
-        is_forced = node.node_id in forced
-        if ups is None:
-            blocked = [u.node_id for u in node.upstream_nodes()
-                       if items[id(u)].state in (State.FAILED, State.BLOCKED)]
-            if is_forced:
-                reason, detail = Reason.FORCED, "rerun requested"
-            else:
-                reason, detail = reason_against_slot(slot, task.name, code, node.params, None)
-            state = State.BLOCKED if blocked else State.PENDING
-            if blocked:
-                detail = f"{detail}; waiting on failed upstream {', '.join(blocked[:3])}"
-            items[id(node)] = PlanItem(node, None, state, reason, detail)
-            continue
-        parts = KeyParts(task.name, code, node.params, ups)
-        key = parts.key
-        manifest, problem = store.check(task.name, key)
-        if manifest is not None and not is_forced:
-            if task.version is not None and manifest.source_hash != task.source_hash():
-                item = PlanItem(node, key, State.STALE, Reason.STALE,
-                                f"code changed under version {task.version}; `peenflow rerun` to refresh",
-                                manifest.content_hash)
-            else:
-                item = PlanItem(node, key, State.DONE, Reason.UP_TO_DATE, "", manifest.content_hash)
-            items[id(node)] = item
-            continue
-        if is_forced:
-            reason, detail = Reason.FORCED, "rerun requested"
-        else:
-            reason, detail = reason_against_slot(slot, task.name, code, node.params, ups)
-            if reason is Reason.INCOMPLETE and problem != "missing":
-                detail = problem
-        if store.checkpoint_dir(key).exists() and not is_forced:
-            reason, detail = Reason.INCOMPLETE, "checkpoint present; will resume from it"
-        state = State.PENDING
-        # The runner's rule (lease.verdict): running while the holder lives; another host's lease
-        # without a recent heartbeat blocks; a dead one is broken by the next run.
-        lease, alive, why = store.leases.verdict(key)
-        if lease is not None and (alive or (alive is None and lease.heartbeat_age_s <= STALE_AFTER_S)):
-            state = State.RUNNING
-            detail = lease.describe()
-        elif lease is not None and alive is None:
-            state = State.BLOCKED
-            detail = f"{lease.describe()}; if that run is dead, run `peenflow unlock`"
-        else:
-            if lease is not None:
-                detail = f"{detail}; dead lease ({why}): the next run breaks it"
-            failure = store.failure(task.name, key)
-            if failure is not None:
-                state = State.FAILED
-                detail = f"last attempt failed: {failure.get('error', '?')}"
-        items[id(node)] = PlanItem(node, key, state, reason, detail, None, store.progress(key))
-    return [items[id(n)] for n in nodes]

@@ -6,7 +6,7 @@ import pytest
 
 from peenflow.engine import executor
 from peenflow.engine.cores import CoreBudget, wanted_threads
-from peenflow.engine.pipeline import load_graph
+from peenflow.engine.plugin import load_graph
 from peenflow.engine.store import DirectoryStore
 
 from engine_helpers import write_toy

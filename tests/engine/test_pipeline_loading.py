@@ -3,7 +3,7 @@
 import sys
 
 from peenflow.engine.graph import Graph
-from peenflow.engine.pipeline import load_graph
+from peenflow.engine.plugin import load_graph
 
 
 def test_a_tasks_module_beside_the_study_does_not_shadow_the_package(tmp_path, monkeypatch):

@@ -6,7 +6,7 @@ from types import SimpleNamespace
 
 from engine_helpers import peenflow, write_toy
 
-from peenflow.engine.report import Reporter, duration, eta
+from peenflow.engine.progress import Reporter, duration, eta
 from peenflow.engine.runner import Outcome
 
 STAMP = r"\d{4}-\d\d-\d\d \d\d:\d\d:\d\d"

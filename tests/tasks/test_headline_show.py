@@ -64,7 +64,7 @@ def test_show_prints_full_values_and_takes_every_stage_and_task_name(micro, caps
 
 
 def test_compressive_depth_is_the_zero_crossing_or_where_a_held_profile_fades():
-    from tasks.headline import compressive_depth
+    from peenflow.methods.profile_features import compressive_depth
 
     z = np.array([0.1, 0.2, 0.3, 0.4])
     depth, how = compressive_depth(z, np.array([-400.0, -200.0, 200.0, 50.0]))
@@ -77,7 +77,7 @@ def test_compressive_depth_is_the_zero_crossing_or_where_a_held_profile_fades():
 def test_a_crossing_through_round_off_is_not_a_zero_crossing():
     """A held REV's profile that reaches zero through round-off of either sign (+0.2 MPa after a
     -500 MPa peak) fades where it rises above 5 % of the peak, not at the round-off crossing."""
-    from tasks.headline import compressive_depth
+    from peenflow.methods.profile_features import compressive_depth
 
     z = np.array([0.1, 0.2, 0.3, 0.4, 0.5])
     depth, how = compressive_depth(z, np.array([-400.0, -500.0, -100.0, -5.0, 0.2]))

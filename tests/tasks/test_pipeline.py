@@ -202,7 +202,7 @@ def test_measured_profile_from_the_template_through_run(micro, tmp_path):
     rms = np.sqrt(np.mean((np.array(ours) - np.array([p[1] * 1e6 for p in points])) ** 2))
     assert float(prof.rms_difference_Pa) == pytest.approx(rms, rel=1e-12)
     assert float(prof.measured_peak_compressive_Pa) == -380e6
-    from tasks.pipeline import report_dir
+    from peenflow.report import report_dir
 
     assert (report_dir(peenflow.api.open_store(study), study) / "residual_stress.png").stat().st_size > 0
 

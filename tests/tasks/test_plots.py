@@ -3,7 +3,7 @@
 import numpy as np
 import xarray as xr
 
-import tasks.plots as plots
+import peenflow.report.plots as plots
 
 
 def test_saturation_figure_survives_a_failed_fit(tmp_path, monkeypatch):

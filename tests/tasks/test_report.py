@@ -28,7 +28,7 @@ window.addEventListener("load", () => {
 
 
 def _report(study):
-    from tasks.pipeline import report_dir
+    from peenflow.report import report_dir
 
     report = report_dir(peenflow.api.open_store(study), study) / "report.html"
     assert report.parent.parent == study.parent / ".peenflow" / "reports" and report.is_file()

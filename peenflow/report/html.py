@@ -2,10 +2,10 @@
 
 It opens in a browser from disk, with no server and nothing fetched: the
 plots are embedded as PNG data URIs, the style is inline, there is no
-script.  Written after every run beside the plots (pipeline.report_dir) and
-by ``peenflow report STUDY``.
+script.  Written after every run beside the plots (:func:`peenflow.report.report_dir`)
+and by ``peenflow report STUDY``.
 
-Sections: the headline numbers (tasks/headline.py); the figures; one table
+Sections: the headline numbers (:mod:`peenflow.report.headline`); the figures; one table
 per stage with every point, its sweep values, state, run time, host and
 key, and its full parameters on demand (``<details>``); provenance: the
 peenflow version and code fingerprints, package versions, host(s), study
@@ -142,11 +142,10 @@ def build_report(graph, store, study_path: Path, images: list[Path], headline_ro
     return "\n".join(parts)
 
 
-def write_report(graph, store, out_dir: Path, study_path: Path, images: list[Path]) -> Path:
-    """Write ``out_dir/report.html`` (atomically) and return its path."""
+def write_report(graph, store, out_dir: Path, study_path: Path, images: list[Path], rows: list) -> Path:
+    """Write ``out_dir/report.html`` (atomically) with the headline ``rows`` and return its path."""
     from peenflow.engine.atomic import write_text_atomic
 
-    rows = graph.headline(graph, store) if graph.headline is not None else []
     text = build_report(graph, store, Path(study_path), [p for p in images if Path(p).suffix == ".png"], rows)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -68,12 +68,14 @@ def _import_after_installed(folder: Path) -> None:
         sys.meta_path.append(_StudyFolderFinder(folder))
 
 
-def load_graph(path: str | Path, default_pipeline: str) -> Graph:
+def load_graph(path: str | Path, default_pipeline) -> Graph:
+    """The graph of the study file at ``path``, by its ``[study] pipeline = "module:function"`` or by
+    ``default_pipeline`` (a function of the path, or such a string)."""
     path = Path(path).resolve()
     data = read_study_table(path)
     entry = data.get("study", {}).get("pipeline", default_pipeline)
     _import_after_installed(path.parent)
-    builder = resolve_pipeline(entry)
+    builder = resolve_pipeline(entry) if isinstance(entry, str) else entry
     graph = builder(path)
     if not isinstance(graph, Graph):
         raise StudyFileError(f"pipeline {entry} returned {type(graph).__name__}, expected a Graph")

@@ -7,11 +7,11 @@
 * ``residual_stress.png`` σx, σy vs depth with the spread over sequences, and the measured profile (Fig. 19)
 
 Plots are views of stored results, remade after every run, and live in the
-store (``<store>/reports/<study>-<id>/``, see pipeline.report_dir): never in a
+store (``<store>/reports/<study>-<id>/``, :func:`peenflow.report.report_dir`): never in a
 tracked folder, and two studies never share a folder.
 
 ``about``: names the figures print (``strip``, ``shot``, ``target_material``,
-``coverage_percent``), given by the pipeline from the study.
+``coverage_percent``): the graph's ``labels``, given by the pipeline from the study.
 """
 
 from __future__ import annotations
@@ -20,18 +20,10 @@ from pathlib import Path
 
 import numpy as np
 
-from peenflow.engine import ResultNotReady, stage_result
+from peenflow.methods.profile_features import compressive_depth
+from peenflow.units import MM, MPA, UM
 
-from ._common import MM, MPA, UM
-
-
-def _result(graph, store, stage):
-    if stage not in graph.stages:
-        return None
-    try:
-        return stage_result(graph, store, stage, allow_partial=True)
-    except ResultNotReady:
-        return None
+from .reading import stage_or_none as _result
 
 
 def _sequences(ds) -> int:
@@ -187,7 +179,6 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
                     textcoords="offset points", fontsize=8)
         ax.annotate(f"surface {mean[0]:.0f} MPa", (z[0], mean[0]), xytext=(10, 12), textcoords="offset points",
                     fontsize=8)
-        from .headline import compressive_depth  # (headline imports this module)
 
         zc, _ = compressive_depth(z, mean)
         if zc is not None:
