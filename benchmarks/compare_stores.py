@@ -1,6 +1,6 @@
 """Compare every result of two stores, in SI: the before/after check of a refactoring.
 
-    python benchmarks/compare_stores.py STORE_A STORE_B [--tolerance 1e-9]
+    python benchmarks/compare_stores.py STORE_A STORE_B [--tolerance 1e-9] [--squeeze] [--rename OLD=NEW ...]
 
 Results are matched by stage and point (the ``peenflow_stage`` and
 ``peenflow_point`` attributes every stored result has; keys may differ
@@ -13,6 +13,11 @@ in the other are the same quantity. Printed per variable: the largest
 difference relative to the variable's largest magnitude (0 when equal,
 ``nan-mismatch`` when the NaN positions differ, ``shape`` when the shapes
 do); a variable in only one store is listed as such.
+
+``--squeeze`` compares values with their length-1 dimensions dropped (a
+result that gained a dimension of one value, such as a single coverage
+level, holds the same numbers); ``--rename OLD=NEW`` compares store A's
+variable OLD with store B's NEW (a renamed output).
 
 Exit status 0 when every shared variable agrees within ``--tolerance``
 (relative) and every result is in both stores; 1 otherwise.
@@ -96,7 +101,11 @@ def main(argv=None) -> int:
     ap.add_argument("store_a", type=Path)
     ap.add_argument("store_b", type=Path)
     ap.add_argument("--tolerance", type=float, default=1e-9, help="largest relative difference accepted")
+    ap.add_argument("--squeeze", action="store_true", help="drop length-1 dimensions before comparing")
+    ap.add_argument("--rename", action="append", default=[], metavar="OLD=NEW",
+                    help="store A's variable OLD is store B's NEW (SI names, without unit suffix)")
     args = ap.parse_args(argv)
+    renamed = dict(r.split("=", 1) for r in args.rename)
     ra, rb = results(args.store_a), results(args.store_b)
     ok = True
     worst = 0.0
@@ -108,6 +117,9 @@ def main(argv=None) -> int:
             ok = False
             continue
         va, vb = variables(ra[label]), variables(rb[label])
+        va = {renamed.get(k, k): v for k, v in va.items() if not (k in renamed.values() and k not in renamed)}
+        if args.squeeze:
+            va, vb = ({k: np.squeeze(v) for k, v in d.items()} for d in (va, vb))
         print(f"{stage} {point}:")
         for name in sorted(set(va) | set(vb)):
             if name not in va or name not in vb:

@@ -29,7 +29,7 @@ from .rev_size import OUTPUTS as REV
 
 OUTPUTS = Outputs(
     "coverage_curve",
-    coverage_percent=Output(("sequence", "shots"), "%", "Monte-Carlo coverage of the measuring region"),
+    coverage_curve_percent=Output(("sequence", "shots"), "%", "Monte-Carlo coverage of the measuring region"),
     coverage_mean_percent=Output(("shots",), "%", "Monte-Carlo coverage, mean over sequences"),
     avrami_coverage_percent=Output(("shots",), "%", "coverage by the eq. (5) fit"),
     uniform_closed_form_percent=Output(("shots",), "%",
@@ -37,8 +37,8 @@ OUTPUTS = Outputs(
     avrami_rate=Output((), "1", "A of eq. (5), per shot"),
     avrami_residual_rms_percent=Output((), "%", "RMS residual of the eq. (5) fit"),
     full_coverage_shots=Output((), "1", "N_f: shots for full coverage (attribute full_coverage_percent)"),
-    coverage_shots=Output((), "1", "N_c: shots for the target coverage (attribute target_coverage_percent)"),
-    coverage_shots_rounded=Output((), "1", "N_c rounded up to whole shots"),
+    coverage_shots=Output(("coverage_percent",), "1", "N_c: shots for each coverage level"),
+    coverage_shots_rounded=Output(("coverage_percent",), "1", "N_c rounded up to whole shots"),
     dent_area_m2=Output((), "m2", "dent ellipse area"),
     peening_area_m2=Output((), "m2", "area the shots land on (REV top surface)"),
 )
@@ -56,10 +56,10 @@ def dent_from_dataset(ds: xr.Dataset) -> DentEllipse:
 
 
 @peening_task(version="1")
-def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, coverage_percent: float,
+def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, coverage_levels_percent: tuple,
                    settings: CoverageParams) -> xr.Dataset:
-    """Coverage of the ``rev`` result's measuring region by ``dent``'s ellipse, N_f and
-    N_c for ``coverage_percent`` (module docstring)."""
+    """Coverage of the ``rev`` result's measuring region by ``dent``'s ellipse, N_f, and N_c for each of
+    ``coverage_levels_percent`` (%, ascending; module docstring)."""
     c = settings
     grid_points, max_shots, shot_counts, sequences = c.grid_points, c.max_shots, c.shot_counts, c.sequences
     full_coverage_percent = c.full_coverage_percent
@@ -82,16 +82,18 @@ def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, cover
     cov = coverage_curves(landings, ellipse, gx, gy, counts)
     fit = fit_avrami(counts, cov, full_coverage_percent)
     n_f = fit.full_coverage_shots
-    n_c = fit.shots_for_coverage(coverage_percent)
+    levels = np.asarray(coverage_levels_percent, dtype=float)
+    n_c = np.array([fit.shots_for_coverage(c) for c in levels])
     return OUTPUTS.dataset(
-        {"coverage_percent": cov, "coverage_mean_percent": cov.mean(axis=0),
+        {"coverage_curve_percent": cov, "coverage_mean_percent": cov.mean(axis=0),
          "avrami_coverage_percent": fit.coverage_at(counts),
          "uniform_closed_form_percent": expected_coverage_uniform(counts, ellipse.area, side ** 2),
          "avrami_rate": fit.rate, "avrami_residual_rms_percent": fit.residual_rms, "full_coverage_shots": n_f,
-         "coverage_shots": n_c, "coverage_shots_rounded": int(math.ceil(n_c)), "dent_area_m2": ellipse.area,
+         "coverage_shots": n_c, "coverage_shots_rounded": np.ceil(n_c).astype(int), "dent_area_m2": ellipse.area,
          "peening_area_m2": side ** 2},
         coords={"sequence": var(np.arange(len(landings)), ("sequence",), "1", "random landing sequence number"),
-                "shots": var(counts, ("shots",), "1", "number of shots N")},
-        attrs={"target_coverage_percent": coverage_percent, "full_coverage_percent": full_coverage_percent,
+                "shots": var(counts, ("shots",), "1", "number of shots N"),
+                "coverage_percent": var(levels, ("coverage_percent",), "%", "coverage level")},
+        attrs={"full_coverage_percent": full_coverage_percent,
                "grid_points": grid_points},
     )

@@ -47,12 +47,14 @@ class Output:
     attrs: Mapping = field(default_factory=dict)
     name: str = ""
 
-    def variable(self, values) -> xr.Variable:
+    def variable(self, values, lead: tuple[str, ...] = ()) -> xr.Variable:
+        """The variable of ``values``, whose dims are ``lead`` (a map's process dimensions) then the declared."""
         values = np.asarray(values)
-        if values.ndim != len(self.dims):
-            raise ValueError(f"output {self.name!r} is declared with dims {self.dims}, got an array of shape "
+        dims = tuple(lead) + self.dims
+        if values.ndim != len(dims):
+            raise ValueError(f"output {self.name!r} is declared with dims {dims}, got an array of shape "
                              f"{values.shape}")
-        return var(values, self.dims, self.units, self.long_name, **self.attrs)
+        return var(values, dims, self.units, self.long_name, **self.attrs)
 
     def read(self, ds: xr.Dataset):
         """The value in an upstream result: a float for a 0-d output, else a numpy array (SI, the
@@ -90,21 +92,28 @@ class Outputs:
         kept = {n: o for n, o in self._outputs.items() if n not in drop}
         return Outputs(task, **{**kept, **changes})
 
-    def dataset(self, values: Mapping, coords: Mapping | None = None, attrs: Mapping | None = None) -> xr.Dataset:
-        """The result from ``{declared name: values}``; every non-optional output must be given."""
+    def dataset(self, values: Mapping, coords: Mapping | None = None, attrs: Mapping | None = None,
+                lead: tuple[str, ...] = ()) -> xr.Dataset:
+        """The result from ``{declared name: values}``; every non-optional output must be given; ``lead``:
+        dimensions before every output's declared ones (a map over process dimensions, recorded in the
+        attribute ``process_dims``)."""
         unknown = set(values) - set(self._outputs)
         if unknown:
             raise KeyError(f"{self.task}: outputs {sorted(unknown)} are not declared")
         missing = [n for n, o in self._outputs.items() if not o.optional and n not in values]
         if missing:
             raise KeyError(f"{self.task}: declared outputs {missing} not given")
-        data = {n: self._outputs[n].variable(v) for n, v in values.items()}
-        return xr.Dataset(data, coords=dict(coords or {}), attrs=dict(attrs or {}))
+        data = {n: self._outputs[n].variable(v, tuple(lead)) for n, v in values.items()}
+        attrs = dict(attrs or {})
+        if lead:
+            attrs["process_dims"] = " ".join(lead)
+        return xr.Dataset(data, coords=dict(coords or {}), attrs=attrs)
 
     def problems(self, ds: xr.Dataset, point_dims=()) -> list[str]:
         """How a stored result departs from this declaration (empty when it matches); ``point_dims``:
         the point's sweep dims, which a stored result carries as length-1 dims of every variable."""
         out = []
+        point_dims = tuple(point_dims) + tuple(str(ds.attrs.get("process_dims", "")).split())
         for name in ds.data_vars:
             o = self._outputs.get(name)
             if o is None:

@@ -43,7 +43,8 @@ from peenflow.units import GPA, MM, MPA, UM
 
 __all__ = ["StageParams", "MaterialParams", "ShotParams", "FidelityParams", "DminParams", "CoverageParams",
            "StripParams", "LadderParams", "SequencesParams", "RevParams", "TargetParams", "PlateParams", "MeasuredProfile",
-           "StripSweep", "TargetPlan", "FidelityLevels", "StudyParams", "study_params"]
+           "StripSweep", "TargetPlan", "FidelityLevels", "StudyParams", "study_params", "StudyFamily", "study_family",
+           "RequirementParams", "requirements_params"]
 
 
 @dataclass(frozen=True)
@@ -410,11 +411,12 @@ class StripSweep:
 
 @dataclass(frozen=True)
 class TargetPlan:
-    """The target side of the graph (``[target]``) beyond :class:`TargetParams`: ``coverage_percent`` (%),
-    ``sequences`` REV runs with shot streams ``seeds``, the part's ``thickness_m`` and the REV's
-    ``rev_thickness_m`` (m; with ``rev_thickness_auto`` the most the convergence check may return)."""
+    """The target side of the graph (``[target]``) beyond :class:`TargetParams`: the coverage levels
+    ``coverage_levels_percent`` (%, ascending: one REV run per sequence reaches them all), ``sequences`` REV
+    runs with shot streams ``seeds``, the part's ``thickness_m`` and the REV's ``rev_thickness_m`` (m; with
+    ``rev_thickness_auto`` the most the convergence check may return)."""
 
-    coverage_percent: float
+    coverage_levels_percent: tuple[float, ...]
     sequences: int
     seeds: tuple[int, ...]
     thickness_m: float
@@ -525,7 +527,7 @@ def study_params(study) -> StudyParams:
                                _mm(t.rev_size_mm), _mm(t.measure_size_mm))
         plate = PlateParams(t.thickness_mm * MM, target_material.youngs_modulus_Pa, target_material.poisson_ratio)
         measured = t.measured_profile
-        target_plan = TargetPlan(coverage_percent=t.coverage_percent, sequences=t.sequences,
+        target_plan = TargetPlan(coverage_levels_percent=t.coverage_levels_percent, sequences=t.sequences,
                                  seeds=tuple(study.seeds.seeds("target", t.sequences)), thickness_m=t.thickness_mm * MM,
                                  rev_thickness_m=rev_thickness_m, rev_thickness_auto=t.rev_thickness_auto)
     f = study.fidelity
@@ -560,3 +562,52 @@ def study_params(study) -> StudyParams:
 
 def _mm(value: float | None) -> float | None:
     return None if value is None else value * MM
+
+
+# -- a family of studies: the process dimensions ------------------------------------------------------------
+@dataclass(frozen=True)
+class StudyFamily:
+    """A study with process dimensions (``[target]`` lists, ``[targets.NAME]``, ``[sweep]``): its ``dims``
+    (:class:`peenflow.study.variants.Dim`, SI), one :class:`StudyParams` per combination with its coordinates
+    (``points``: ``(coords, params)``, the last dimension fastest; a named value -- a material, a named
+    target -- is its index in the dimension's values), and the ``[requirements]`` (None without)."""
+
+    dims: tuple
+    points: tuple
+    requirements: object = None
+
+    @property
+    def first(self) -> StudyParams:
+        return self.points[0][1]
+
+
+def study_family(study) -> StudyFamily:
+    """Every combination of a validated study's process dimensions, in SI (a single point: one, no dims)."""
+    dims = tuple(study.dims)
+    points = []
+    for coords, variant in study.variants:
+        coords = {d.name: (d.values.index(coords[d.name]) if d.labels else coords[d.name]) for d in dims}
+        points.append((coords, study_params(variant)))
+    return StudyFamily(dims, tuple(points), study.requirements)
+
+
+@dataclass(frozen=True)
+class RequirementParams(StageParams):
+    """``[requirements]`` in SI: ``bounds``, one ``(map variable, CF units, min, max, the file's key)`` per
+    feature (min / max None where not given), and the setting to minimise (a process dimension,
+    ``coverage_percent``, or ``shots``: N_c)."""
+
+    bounds: tuple[tuple, ...]
+    minimise: str
+
+
+def requirements_params(requirements, dims=()) -> RequirementParams:
+    """The typed requirements of a validated ``[requirements]`` table."""
+    from peenflow.study.requirements import FEATURES
+
+    bounds = []
+    for key, b in sorted(requirements.bounds.items()):
+        variable, units, factor, _ = FEATURES[key]
+        bounds.append((variable, units, None if b.min is None else b.min * factor,
+                       None if b.max is None else b.max * factor, key))
+    return RequirementParams(tuple(bounds), requirements.minimise)

@@ -27,10 +27,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from peenflow.engine import Graph
+from peenflow.engine import Graph, Group
 from peenflow.engine.growth import Grow
-from peenflow.study import load_study
+from peenflow.study import StudyError, load_study
 from peenflow.study.accuracy import statement as fidelity_statement
+from peenflow.study.accuracy import target_error_basis, target_point_error
 
 from ._common import SWEEP_COORDS
 from .arc_height import arc_height
@@ -39,7 +40,9 @@ from .coverage_curve import coverage_curve
 from .dmin import dmin
 from .indentation import indentation
 from .intensity_extrapolation import intensity_extrapolation
-from .params import StripSweep, StudyParams, study_params
+from .params import StripSweep, StudyFamily, StudyParams, requirements_params, study_family
+from .process_map import process_map
+from .suggested_settings import suggested_settings
 from .preflight import check_before_compute
 from .residual_profile import residual_profile
 from .rev_size import rev_size
@@ -83,29 +86,105 @@ STAGES: dict[str, str] = {
     "target_rev": "[target]: the target REV (3 d_min, or target.rev_size_mm)",
     "coverage_curve": "[target]: Monte-Carlo coverage, eq. (5) fit, N_f and N_c",
     "target_runs": "[target]: the final REV runs (N_c shots per sequence)",
-    "residual_profile": "[target]: mean residual-stress profile with spread; the free part; the measured "
-                        "profile's comparison when target.measured_profile_csv is given",
+    "residual_profile": "[target]: mean residual-stress profile with spread, per coverage level; the free part; "
+                        "the measured profile's comparison when target.measured_profile_csv is given",
+    "process_map": "[target] with lists, [targets.NAME], [sweep], coverage levels or [requirements]: the profiles "
+                   "and their features over every process dimension, in one Dataset",
+    "suggested_settings": "[requirements]: the settings that meet every requirement with the least of minimise",
 }
 
 
 def build_graph(path) -> Graph:
-    """The graph of the study file at ``path``: read once into typed parameters, checked against the
-    kernel's limits (:mod:`tasks.preflight`), then :func:`graph_for`."""
+    """The graph of the study file at ``path``: read once into typed parameters (one set per combination of
+    its process dimensions), checked against the kernel's limits (:mod:`tasks.preflight`), then built."""
     study = load_study(path)
-    p = study_params(study)
-    check_before_compute(study, p)
-    return graph_for(p)
+    family = study_family(study)
+    for (_, variant), (_, p) in zip(study.variants, family.points):
+        check_before_compute(variant, p)
+    return graph_for_family(family)
 
 
 def graph_for(p: StudyParams) -> Graph:
-    """The stage graph of a study's typed parameters (it reads nothing else: the one door in)."""
-    g = Graph(p.name)
-    g.coord_attrs = dict(SWEEP_COORDS)
-    g.result_attrs = fidelity_statement(p.levels)  # what made each result, and its measured error
+    """The stage graph of a single-point study's typed parameters."""
+    return graph_for_family(StudyFamily((), (({}, p),)))
+
+
+def graph_for_family(f: StudyFamily) -> Graph:
+    """The stage graph of a study family's typed parameters (it reads nothing else: the one door in).
+
+    Each combination of the process dimensions is built in turn; a point that a dimension does not reach
+    is one point, shared by every combination (engine.Graph.variant), and carries the values of the
+    dimensions that do reach it. With process dimensions or coverage levels, ``process_map`` lays the
+    profiles and their features on one grid; with ``[requirements]``, ``suggested_settings`` reads it."""
+    first = f.first
+    g = Graph(first.name)
+    g.coord_attrs = {**SWEEP_COORDS, **{d.name: dim_attrs(d) for d in f.dims}}
+    g.result_attrs = fidelity_statement(first.levels)  # what made each result, and its measured error
+    finals = []
+    for coords, p in f.points:
+        with g.variant(coords):
+            finals.append(_add_point(g, p))
+            own = fidelity_statement(p.levels)
+            if own != g.result_attrs:  # a swept fidelity: each point states its own
+                for node in g.variant_nodes:
+                    node.result_attrs.update({**own, **g.stage_result_attrs.get(node.stage, {})})
+    g.settle_variants([d.name for d in f.dims])
+    _check_dims_reach(f, finals)
+    if first.target_plan is not None and (f.dims or len(first.target_plan.coverage_levels_percent) > 1
+                                          or f.requirements is not None):
+        dims = [d.name for d in f.dims]
+        pmap = g.add(process_map, upstream={"profiles": Group(finals, tuple(dims))}, params={
+            "dims": dims, "errors": [_point_error(p) for _, p in f.points], "error_basis": target_error_basis()})
+        if f.requirements is not None:
+            g.add(suggested_settings, upstream={"process_map": pmap},
+                  params={"requirements": requirements_params(f.requirements, f.dims)})
+    g.execution = {k: v for k, v in (("workers", first.workers), ("threads", first.threads)) if v is not None}
+    unknown = set(g.stages) - set(STAGES)
+    if unknown:  # a programming error: a stage added without its name in STAGES
+        raise RuntimeError(f"stages missing from tasks.pipeline.STAGES: {sorted(unknown)}")
+    t = first.target_plan
+    g.labels = {**first.names, "coverage_percent": t.coverage_levels_percent[-1] if t is not None else None,
+                "process_dims": [d.name for d in f.dims]}
+    return g
+
+
+def dim_attrs(d) -> dict:
+    """CF attributes of a process dimension's coordinate (a named one: integer values, names in flag_meanings)."""
+    attrs = {"units": d.units, "long_name": d.long_name, "peenflow_study_key": d.key}
+    if d.labels:
+        attrs["flag_values"] = list(range(len(d.values)))
+        attrs["flag_meanings"] = " ".join(str(v).replace(" ", "_") for v in d.values)
+    elif d.key.endswith("almen_intensity"):
+        attrs["shop_notation"] = " ".join(str(v) for v in d.given)
+    return attrs
+
+
+def _check_dims_reach(f: StudyFamily, finals: list) -> None:
+    """Every process dimension must change the study's answer: refused before compute otherwise."""
+    if not f.dims:
+        return
+    if len({id(n) for n in finals}) == len(finals):
+        return
+    idle = [d for d in f.dims if not all(d.name in n.coords for n in finals)]
+    keys = ", ".join(d.key for d in idle) or ", ".join(d.key for d in f.dims)
+    raise StudyError(f.first.path, [f"{keys}: reaches no stage of the study's answer (every value gives the same "
+                                    "points): it cannot be a dimension here; expected a key that changes a result "
+                                    "of this study"])
+
+
+def _point_error(p: StudyParams):
+    """The point's own stated error of its profile and N_f, or None where it was not measured."""
+    lv = p.levels
+    core = lv.element_size_um if lv.dent_refinement == "core" and lv.dent_element_size_um is not None else None
+    return target_point_error(p.names.get("target_material"), p.names.get("shot"), lv.element_size_um,
+                              lv.dent_element_size_um, core)
+
+
+def _add_point(g: Graph, p: StudyParams):
+    """One combination's stages; the node of its answer (``residual_profile``, or ``control_curve``)."""
     D = p.shot.diameter_m
     kernel = {"shot": p.shot, "fidelity": p.fidelity}
-    control = None
-
+    control = final = None
     if (strips := p.strips) is not None:
         smat = {"material": p.strip_material, **kernel}
         h = p.strip.thickness_m
@@ -121,7 +200,7 @@ def graph_for(p: StudyParams) -> Graph:
             dent_s = g.sweep(indentation, dims={"angle_deg": angles}, upstream={"impact": imp},
                              stage="strip_indentation")
             g.sweep(coverage_curve, dims={"angle_deg": angles}, upstream={"dent": dent_s, "rev": rev},
-                    stage="strip_coverage", params={"settings": p.coverage, "coverage_percent": 100.0})
+                    stage="strip_coverage", params={"settings": p.coverage, "coverage_levels_percent": [100.0]})
         else:
             rev = g.add(rev_size, stage="strip_rev", params={"rev": p.strip_rev})
         sat = _strip_level(g, p, rev, p.fidelity)
@@ -136,7 +215,7 @@ def graph_for(p: StudyParams) -> Graph:
             for stage in LEVEL_STAGES:
                 g.stage_result_attrs[stage] = fine_only
                 g.stage_result_attrs["coarse_" + stage] = coarse_only
-        control = g.add(control_curve, upstream={"sat": sat}, params={"interpolation": strips.interpolation})
+        control = final = g.add(control_curve, upstream={"sat": sat}, params={"interpolation": strips.interpolation})
 
     if (t := p.target_plan) is not None:
         angle_deg = p.target.angle_deg
@@ -168,21 +247,17 @@ def graph_for(p: StudyParams) -> Graph:
         else:
             rev_t = g.add(rev_size, upstream=thick_up, stage="target_rev", params={"rev": p.target_rev})
         cov = g.add(coverage_curve, upstream={"dent": dent, "rev": rev_t}, params={
-            "settings": p.coverage, "angle_deg": angle_deg, "coverage_percent": t.coverage_percent})
+            "settings": p.coverage, "angle_deg": angle_deg, "coverage_levels_percent": list(t.coverage_levels_percent)})
         runs_t = g.sweep(target_runs, dims={"sequence": list(range(t.sequences))},
                          upstream={"rev": rev_t, "velocity": vel, "coverage": cov},
                          params={**tmat, "angle_deg": angle_deg},
                          point_params=lambda c: {"seed": t.seeds[c["sequence"]]})
         # The release is that of a plate peened on one whole face; the stage
         # applies it only when the REV spans the part's thickness.
-        g.add(residual_profile, upstream={"runs": runs_t}, params={"measured": p.measured, "free_part": p.plate})
+        final = g.add(residual_profile, upstream={"runs": runs_t, "velocity": vel, "coverage": cov},
+                      params={"measured": p.measured, "free_part": p.plate})
 
-    g.execution = {k: v for k, v in (("workers", p.workers), ("threads", p.threads)) if v is not None}
-    unknown = set(g.stages) - set(STAGES)
-    if unknown:  # a programming error: a stage added without its name in STAGES
-        raise RuntimeError(f"stages missing from tasks.pipeline.STAGES: {sorted(unknown)}")
-    g.labels = {**p.names, "coverage_percent": t.coverage_percent if t is not None else None}
-    return g
+    return final
 
 
 #: the target stages that run at ``fidelity.dent_element_size_um`` when it is given (the dent's single

@@ -72,7 +72,7 @@ def point_specs(graph: Graph, nodes: list[Node], store: DirectoryStore, forced: 
             forced=node.node_id in forced,
             threads=threads[node.stage] if isinstance(threads, dict) else threads,
             sweep_attrs={d: dict(graph.coord_attrs.get(d, {})) for d in node.coords},
-            result_attrs={**graph.result_attrs, **graph.stage_result_attrs.get(node.stage, {})},
+            result_attrs={**graph.result_attrs, **graph.stage_result_attrs.get(node.stage, {}), **node.result_attrs},
         )
         out[node.node_id] = (spec, [u.node_id for u in ups])
     return out

@@ -11,11 +11,19 @@ combination of its sweep coordinates.  Upstream links:
   per-(angle, velocity) saturation fit receives all sequences of its strip
   runs as one Dataset with a ``sequence`` dim).
 
+A *family* of graphs (one per combination of a study's process dimensions)
+is built into one graph inside :meth:`Graph.variant` blocks: a point whose
+task, parameters and upstream points are those of a point already in the
+graph *is* that point, so what a dimension does not reach is computed once
+and shared; :meth:`Graph.settle_variants` then gives every point the
+dimension values all the combinations that reach it agree on.
+
 The engine knows nothing about what the tasks compute.
 """
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 from dataclasses import dataclass, field
 from typing import Any, Iterable, Mapping
@@ -38,6 +46,8 @@ class Node:
     params: dict
     upstream: dict  # name -> Node | Group
     coords: dict = field(default_factory=dict)  # sweep coordinates of this point
+    #: attributes written on this point's result besides the graph's and its stage's (outside its key)
+    result_attrs: dict = field(default_factory=dict)
 
     @property
     def label(self) -> str:
@@ -46,6 +56,14 @@ class Node:
     @property
     def node_id(self) -> str:
         return f"{self.stage}[{self.label}]" if self.coords else self.stage
+
+    def identity(self) -> tuple:
+        """What makes two points the same point: task, stage, parameters and upstream points (by identity)."""
+        ups = []
+        for name, up in sorted(self.upstream.items()):
+            members = up.nodes if isinstance(up, Group) else [up]
+            ups.append((name, tuple(id(n) for n in members), tuple(up.dims) if isinstance(up, Group) else None))
+        return (self.task.name, self.stage, canonical_json(self.params), tuple(ups))
 
     def upstream_nodes(self) -> list["Node"]:
         out: list[Node] = []
@@ -129,11 +147,61 @@ class Graph:
         self.growth: dict = {}
         #: the growth rules' verdicts, by (stage, content hashes of the group's points): asked once each
         self.growth_verdicts: dict = {}
+        #: building a family (:meth:`variant`): the coordinates of the combination being built, the points
+        #: by identity, and per point the combinations that reached it
+        self._variant: dict | None = None
+        self._interned: dict[tuple, Node] = {}
+        self._sweeps: dict[str, list[Sweep]] = {}
+        #: the points the combination being built reached (:meth:`variant`)
+        self.variant_nodes: list[Node] = []
+        self._reached: dict[int, list[dict]] = {}
+
+    # -- families -----------------------------------------------------------
+    @contextlib.contextmanager
+    def variant(self, coords: dict):
+        """Build one combination of a family (module docstring): points equal to existing ones are shared."""
+        self._variant = dict(coords)
+        self.variant_nodes = []
+        try:
+            yield self
+        finally:
+            self._variant = None
+
+    def _intern(self, node: Node) -> tuple[Node, bool]:
+        """(the point, whether it is new); inside a family every point is interned by its identity."""
+        key = node.identity()
+        existing = self._interned.get(key)
+        if existing is not None:
+            node = existing
+        else:
+            self._interned[key] = node
+        if self._variant is not None:
+            self._reached.setdefault(id(node), []).append(self._variant)
+            self.variant_nodes.append(node)
+        return node, existing is None
+
+    def settle_variants(self, dims) -> None:
+        """Give each point of a family the values of ``dims`` that every combination reaching it agrees on
+        (labels and stored coordinates; never parameters, so a shared point keeps its key)."""
+        for node in self.nodes:
+            reached = self._reached.get(id(node))
+            if not reached:
+                continue
+            for d in dims:
+                values = {canonical_json(c[d]) for c in reached if d in c}
+                if len(values) == 1 and all(d in c for c in reached) and d not in node.coords:
+                    node.coords[d] = reached[0][d]
+
+    def reached_by(self, node: Node) -> list[dict]:
+        """The combinations of a family that reached ``node``."""
+        return list(self._reached.get(id(node), []))
 
     # -- building -----------------------------------------------------------
     def _register_stage(self, task: Task, stage: str | None) -> str:
         stage = stage or task.name
         if stage in self._stages:
+            if self._variant is not None and self._stages[stage] is task:  # another combination of a family
+                return stage
             raise ValueError(f"stage {stage!r} added twice; pass stage=... to name the second one")
         self._stages[stage] = task
         return stage
@@ -142,8 +210,9 @@ class Graph:
             stage: str | None = None) -> Node:
         stage = self._register_stage(task, stage)
         up = {k: (v.all() if isinstance(v, Sweep) else v) for k, v in (upstream or {}).items()}
-        node = Node(task, stage, canonical_value(dict(params or {})), up)
-        self.nodes.append(node)
+        node, new = self._intern(Node(task, stage, canonical_value(dict(params or {})), up))
+        if new:
+            self.nodes.append(node)
         return node
 
     def sweep(self, task: Task, dims: Mapping[str, Iterable], params: Mapping | None = None,
@@ -186,9 +255,18 @@ class Graph:
             values[i] = values[i][:grow.start]
             self.growing.append(sweep)
         for combo in itertools.product(*values):
-            node = make_node(dict(zip(names, combo)))
+            node, new = self._intern(make_node(dict(zip(names, combo))))
             sweep.nodes.append(node)
-            self.nodes.append(node)
+            if new:
+                self.nodes.append(node)
+        # another combination of a family whose points are all those of an earlier sweep: that sweep (it
+        # grows once)
+        for earlier in self._sweeps.get(stage, []):
+            if [id(n) for n in earlier.nodes[:len(sweep.nodes)]] == [id(n) for n in sweep.nodes]:
+                if grow is not None:
+                    self.growing.remove(sweep)
+                return earlier
+        self._sweeps.setdefault(stage, []).append(sweep)
         return sweep
 
     @staticmethod

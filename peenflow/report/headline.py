@@ -57,6 +57,13 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
                              f"(correction {_pm(float(e.mesh_correction_m) / MM, float(e.mesh_correction_standard_error_m) / MM, 'mm')})")
                 rows.append((f"Almen intensity, {a:g} deg, {v:g} m/s", _pm(i, float(c.intensity_std_m) / MM, "mm"),
                              note))
+    if graph.labels.get("process_dims"):  # a family: the map says it per point
+        rows += map_rows(get("process_map"), get("suggested_settings"))
+        fidelity = graph.result_attrs.get("peenflow_fidelity")
+        if rows and fidelity:
+            preset, _, mesh = fidelity.partition(": ")
+            rows.append(("fidelity", preset, f"{mesh} (first point of the map)"))
+        return rows
     tv = get("target_velocity")
     if tv is not None:
         if "intensity_m" in tv:
@@ -98,24 +105,72 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
     if cov is not None:
         rows.append((f"N_f ({cov.attrs['full_coverage_percent']:g} % coverage)",
                      f"{float(cov.full_coverage_shots):.0f} shots", "eq. (5) fit"))
-        rows.append((f"N_c ({cov.attrs.get('target_coverage_percent', 0):g} % coverage)",
-                     f"{int(cov.coverage_shots_rounded)} shots", "shots of each target REV run"))
-    prof = get("residual_profile")
-    if prof is not None:
+        for level, n in zip(cov.coverage_percent.values, np.atleast_1d(cov.coverage_shots_rounded.values)):
+            rows.append((f"N_c ({level:g} % coverage)", f"{int(n)} shots", "shots of each target REV run to it"))
+    full = get("residual_profile")
+    levels = full.coverage_percent.values if full is not None and "coverage_percent" in full.dims else [None]
+    for level in levels:
+        prof = full if level is None else full.sel(coverage_percent=level)
+        at = "" if len(levels) == 1 else f" ({level:g} %)"
+        if prof is None:
+            break
         z = np.asarray(prof.depth_m.values).reshape(-1)
         n = int(prof.sizes.get("sequence", 1))
         spread = f"std over {n} sequences" if n > 1 else "one sequence, no spread"
         for c in ("xx", "yy"):
             m = prof[f"stress_{c}_mean_Pa"].values / MPA
             s = prof[f"stress_{c}_spread_Pa"].values / MPA
-            rows.append((f"surface sigma_{c}", _pm(m[0], s[0], "MPa", 0), f"top layer, {z[0] * 1e3:.3f} mm; {spread}"))
+            rows.append((f"surface sigma_{c}{at}", _pm(m[0], s[0], "MPa", 0), f"top layer, {z[0] * 1e3:.3f} mm; {spread}"))
             k = int(np.nanargmin(m))
-            rows.append((f"peak sigma_{c}", _pm(m[k], s[k], "MPa", 0), f"at {z[k] * 1e3:.3f} mm depth"))
+            rows.append((f"peak sigma_{c}{at}", _pm(m[k], s[k], "MPa", 0), f"at {z[k] * 1e3:.3f} mm depth"))
         zc, how = compressive_depth(z, prof.stress_xx_mean_Pa.values)
-        rows.append(("compressive depth (sigma_xx)", f"{zc * 1e3:.3f} mm" if zc is not None else "n/a", how))
+        rows.append((f"compressive depth (sigma_xx){at}", f"{zc * 1e3:.3f} mm" if zc is not None else "n/a", how))
+    rows += map_rows(None, get("suggested_settings"))
     fidelity = graph.result_attrs.get("peenflow_fidelity")
     if rows and fidelity:  # what made these numbers ("preset: mesh"), and its measured error
         preset, _, mesh = fidelity.partition(": ")
         rows.append(("fidelity", preset, f"{mesh}; {graph.result_attrs.get('peenflow_fidelity_error', '')}"))
     return rows
 
+
+
+def point_name(pmap, sel: dict) -> str:
+    """A map point as a person reads it: ``almen_intensity 12A, target_material Al7075-T73, 200 %``."""
+    parts = []
+    for d, i in sel.items():
+        c = pmap[d]
+        v = c.values[i]
+        if c.attrs.get("flag_meanings"):
+            parts.append(f"{d} {c.attrs['flag_meanings'].split()[int(v)]}")
+        elif c.attrs.get("shop_notation"):
+            parts.append(c.attrs["shop_notation"].split()[i])
+        elif d == "coverage_percent":
+            parts.append(f"{float(v):g} %")
+        else:
+            units = c.attrs.get("units", "")
+            scale, shown = {"m": (1e3, "mm"), "Pa": (1e-6, "MPa")}.get(units, (1.0, units))
+            parts.append(f"{d} {float(v) * scale:.4g}{' ' + shown if shown not in ('', '1') else ''}")
+    return ", ".join(parts)
+
+
+def map_rows(pmap, suggestion) -> list[tuple[str, str, str]]:
+    """One row per map point (surface and peak sigma_xx, compressive depth, N_c) and the suggestion."""
+    import itertools
+
+    rows = []
+    if pmap is not None:
+        dims = [d for d in pmap.attrs.get("process_dims", "").split() if d] + ["coverage_percent"]
+        for combo in itertools.product(*[range(pmap.sizes[d]) for d in dims]):
+            sel = dict(zip(dims, combo))
+            p = pmap.isel(sel)
+            zc = float(p.compressive_depth_xx_m)
+            rows.append((point_name(pmap, sel),
+                         f"{float(p.surface_stress_xx_Pa) / MPA:.0f} / {float(p.peak_compressive_xx_Pa) / MPA:.0f} MPa",
+                         f"surface / peak sigma_xx, peak at {float(p.peak_compressive_xx_depth_m) / MM:.3f} mm, "
+                         f"compressive to {zc / MM:.3f} mm, N_c {float(p.coverage_shots):.0f}, "
+                         f"{float(p.velocity_m_s):.1f} m/s"
+                         + ("" if int(p.error_measured) else ", error unmeasured")))
+    if suggestion is not None:
+        rows.append(("suggested settings", "met" if int(suggestion.met) else "none meets",
+                     suggestion.attrs.get("verdict", "")))
+    return rows

@@ -124,32 +124,35 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
         ax.legend(fontsize=8)
         save(fig, "control_curves.png")
 
-    cov = _result(graph, store, "coverage_curve")
+    family = bool(about.get("process_dims"))  # a map: its own figures (peenflow.report.map_plots)
+    cov = None if family else _result(graph, store, "coverage_curve")
     if cov is not None:
         fig, ax = plt.subplots(figsize=(6.5, 4.5))
         n = cov.shots.values
         for s in cov.sequence.values:
-            ax.plot(n, cov.coverage_percent.sel(sequence=s), "-", color="0.8", lw=0.8)
+            ax.plot(n, cov.coverage_curve_percent.sel(sequence=s), "-", color="0.8", lw=0.8)
         ax.plot([], [], "-", color="0.8", label=f"each sequence ({_sequences(cov)})")
         ax.plot(n, cov.coverage_mean_percent, "o", ms=3, label="Monte Carlo (mean)")
         ax.plot(n, cov.avrami_coverage_percent, "-", label=f"eq. (5), A = {float(cov.avrami_rate):.3g} per shot")
         ax.plot(n, cov.uniform_closed_form_percent, "--", label="closed form, uniform landings")
         full = cov.attrs["full_coverage_percent"]
         ax.axhline(full, ls="-.", color="0.4", lw=0.8, label=f"{full:g} % (full coverage)")
-        n_f, n_c = float(cov.full_coverage_shots), float(cov.coverage_shots)
+        n_f = float(cov.full_coverage_shots)
+        levels, shots = cov.coverage_percent.values, np.atleast_1d(cov.coverage_shots.values)
         ax.axvline(n_f, ls=":", color="k", label=f"N_f = {n_f:.0f}")
         side_mm = float(np.sqrt(float(cov.peening_area_m2))) * 1e3
         dent_r_mm = float(np.sqrt(float(cov.dent_area_m2) / np.pi)) * 1e3
-        cover = about.get("coverage_percent")
-        cover_text = f"N_c ({cover:g} %) = {n_c:.0f}" if cover else f"N_c = {n_c:.0f}"
+        cover_text = ", ".join(f"N_c ({c:g} %) = {n:.0f}" for c, n in zip(levels, shots))
         ax.set(xlabel="shots N", ylabel="coverage (%)",
                title=f"coverage on the {side_mm:.2f} mm REV, dent radius {dent_r_mm:.3f} mm (equal area)\n"
                      f"N_f = {n_f:.0f}, {cover_text}")
         ax.legend(fontsize=8, loc="lower right")
         save(fig, "coverage.png")
 
-    prof = _result(graph, store, "residual_profile")
+    prof = None if family else _result(graph, store, "residual_profile")
     if prof is not None:
+        # the largest coverage level (the study's coverage when it gives one)
+        prof = prof.isel(coverage_percent=-1) if "coverage_percent" in prof.dims else prof
         fig, ax = plt.subplots(figsize=(7, 4.8))
         z = np.asarray(prof.depth_m.values).reshape(-1) / MM
         n_seq = _sequences(prof)

@@ -233,3 +233,38 @@ def statement(fidelity, element_size_um: float | None = None, extrapolated: bool
         "peenflow_fidelity": made,
         "peenflow_fidelity_error": f"{single}; {study_level_error(h, coarse, order, dent, dent_core_in)}",
     }
+
+
+#: the material and shot the section 5 target's errors (TARGET_PROFILE, DENT_LEVEL_NF) were measured for
+TARGET_MEASURED_FOR = ("Al7075-T73", "S230")
+
+
+def target_point_error(material: str, shot: str, element_size_um: float, dent_um: float | None = None,
+                       dent_core_in_um: float | None = None) -> dict | None:
+    """A process-map point's own stated error: ``{"peak_percent", "compressive_depth_percent",
+    "profile_rms_percent", "full_coverage_shots_percent"}`` (%, None where that figure was not measured)
+    when the point's material, shot and element sizes are those the section 5 target was measured at;
+    None otherwise (see :func:`target_error_basis` for the measured case to name)."""
+    if (material, shot) != TARGET_MEASURED_FOR:
+        return None
+    dent = element_size_um if dent_um is None else dent_um
+    out = {"peak_percent": None, "compressive_depth_percent": None, "profile_rms_percent": None,
+           "full_coverage_shots_percent": None}
+    for (h, hd), (pk, cd, rms) in TARGET_PROFILE.items():
+        if _same(h, element_size_um) and _same(hd, dent):
+            out.update(peak_percent=pk, compressive_depth_percent=cd, profile_rms_percent=rms)
+    table = DENT_LEVEL_NF if dent_core_in_um is None else {
+        hc: nf for (hb, hc), nf in DENT_CORE_LEVEL_NF.items() if _same(hb, dent_core_in_um)}
+    for h, nf in table.items():
+        if _same(h, dent):
+            out["full_coverage_shots_percent"] = nf
+    return out if any(v is not None for v in out.values()) else None
+
+
+def target_error_basis() -> str:
+    """The measured case a process map's stated errors come from, to name beside an unmeasured point."""
+    material, shot = TARGET_MEASURED_FOR
+    levels = ", ".join(f"{h:g}/{hd:g} um" for h, hd in TARGET_PROFILE)
+    return (f"the section 5 target: {material}, {shot} shot, 65 deg, 30 m/s, against its converged profile "
+            f"(peak {TARGET_PROFILE_PEAK_MPA:g} MPa) and N_f limit ({N_F_LIMIT:g}); REV/dent element sizes measured: "
+            f"{levels} ({STUDY_LEVEL_SOURCE})")

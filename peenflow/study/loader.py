@@ -37,7 +37,9 @@ from .fidelity import REMOVED_KEYS, Fidelity, expand_preset
 from .items import Material, Shot, Strip
 from .measured_profile import PROFILE_COMPONENTS, ProfileError, read_measured_profile
 from .model import Study, StudyInfo
+from .requirements import FEATURES, MINIMISE_SHOTS, Requirements
 from .sections import Almen, Coverage, Dmin, Execution, Seeds, ShotSection, Target
+from .variants import ListProblem, apply_overrides, expand
 
 __all__ = ["load_study", "validate_study", "LIBRARY_DIR", "LIBRARY_PREFIX", "PROFILE_COMPONENTS"]
 
@@ -58,7 +60,9 @@ SECTIONS: dict[str, type[BaseModel]] = {
 REGISTRY: dict[str, type[BaseModel]] = {"materials": Material, "shots": Shot, "strips": Strip}
 SINGULAR = {"materials": "material", "shots": "shot", "strips": "Almen strip"}
 STUDY_KEYS = ("name", "description", "include", "extends", "allow_outside_bounds")
-TOP_KEYS = ("study", *SECTIONS, *REGISTRY)
+#: tables beside the sections: named targets, the sweep of any key, what the part needs
+FAMILY_KEYS = ("targets", "sweep", "requirements")
+TOP_KEYS = ("study", *SECTIONS, *REGISTRY, *FAMILY_KEYS)
 # Where a section names a library item: (section, key, registry kind).
 REFERENCES = (("shot", "type", "shots"), ("almen", "strip", "strips"), ("target", "material", "materials"))
 
@@ -145,6 +149,13 @@ class _Loader:
 
     # --- files --------------------------------------------------------------
     def read_toml(self, file: Path, key: str = "", referrer: Path | None = None) -> dict | None:
+        """The file's tables (read once per loader: every variant of a study sees the same file)."""
+        cache = self.__dict__.setdefault("_toml", {})
+        if file not in cache:
+            cache[file] = self._read_toml(file, key, referrer)
+        return copy.deepcopy(cache[file])
+
+    def _read_toml(self, file: Path, key: str = "", referrer: Path | None = None) -> dict | None:
         try:
             if file.is_dir():
                 self.add(key, f"{file} is a directory; expected a TOML file", referrer)
@@ -246,7 +257,8 @@ class _Loader:
         )
 
     # --- library ----------------------------------------------------------
-    def build_registry(self, raw: _Raw) -> tuple[dict[str, dict[str, BaseModel]], dict[str, set[str]]]:
+    def build_registry(self, raw: _Raw, data: dict) -> tuple[dict[str, dict[str, BaseModel]], dict[str, set[str]]]:
+        """The library items (the included files', then the study's own tables in ``data``), validated."""
         merged: dict[str, dict[str, dict]] = {kind: {} for kind in REGISTRY}
         origin: dict[tuple[str, str], Path] = {}
         sources: list[tuple[Path, dict]] = []
@@ -264,7 +276,7 @@ class _Loader:
                         self.add(key, f"unknown table in an included file{suggest(key, REGISTRY)}; included files "
                                  "may only define [materials.*], [shots.*] and [strips.*]", p)
                 sources.append((p, d))
-        sources.append((self.path, {k: raw.data[k] for k in REGISTRY if k in raw.data}))
+        sources.append((self.path, {k: data[k] for k in REGISTRY if k in data}))
         for file, d in sources:
             for kind in REGISTRY:
                 table = d.get(kind)
@@ -335,12 +347,95 @@ class _Loader:
         raw = self.read_study(self.path, ())
         if raw is None:
             return None
-        data = raw.data
-        for key in data:
+        for key in raw.data:
             if key not in TOP_KEYS:
                 self.add(key, f"unknown section{suggest(key, TOP_KEYS)} (valid sections: {', '.join(TOP_KEYS)})")
+        try:
+            dims, variants = expand(raw.data)
+        except ListProblem as exc:
+            self.add(exc.key, exc.message, value=exc.value if exc.value is not None else _NO_VALUE)
+            return None
+        base = {k: v for k, v in raw.data.items() if k not in FAMILY_KEYS}
+        studies = []
+        for v in variants:
+            data = copy.deepcopy(base)
+            if v.target is not None:
+                data["target"] = copy.deepcopy(v.target)
+            if v.overrides:
+                self.check_sweep_keys(v.overrides, raw)
+                apply_overrides(data, v.overrides)
+            studies.append((v.coords, self.build(raw, data)))
+            if self.problems:  # the first variant's problems are the study's: the others would repeat them
+                return None
+        requirements = self.requirements(raw.data.get("requirements"), dims)
+        if requirements is None and raw.data.get("requirements") is not None:
+            return None
+        first = studies[0][1]
+        if dims:
+            object.__setattr__(first, "_dims", tuple(dims))
+            object.__setattr__(first, "_variants", tuple(studies))
+        object.__setattr__(first, "_requirements", requirements)
+        return first
 
-        items, broken = self.build_registry(raw)
+    def check_sweep_keys(self, overrides: dict, raw: "_Raw") -> None:
+        """A swept key of a library item names an item the study can see, and an existing field of it."""
+        for key in overrides:
+            kind, _, rest = key.partition(".")
+            name, _, field_path = rest.partition(".")
+            if kind in REGISTRY:
+                known = self.registry_names(raw).get(kind, set())
+                if name not in known:
+                    self.add(f'sweep."{key}"', f"no {SINGULAR[kind]} {name!r}{suggest(name, sorted(known))} to sweep "
+                             f"(known: {', '.join(sorted(known))})")
+                    continue
+                model, path = REGISTRY[kind], field_path.split(".")
+            elif kind in SECTIONS:
+                model, path = SECTIONS[kind], rest.split(".")
+            else:
+                continue
+            for i, part in enumerate(path):
+                fields = getattr(model, "model_fields", {})
+                if part not in fields:
+                    self.add(f'sweep."{key}"', f"no key {part!r}{suggest(part, list(fields))} in "
+                             f"{'.'.join([kind, name] if kind in REGISTRY else [kind])}"
+                             f"{'.' + '.'.join(path[:i]) if i else ''}: expected an existing numeric key")
+                    break
+                model = _nested_model(fields[part].annotation)
+
+    def registry_names(self, raw: "_Raw") -> dict[str, set[str]]:
+        """Names of the library items the study can refer to, per kind (``materials``, ...)."""
+        names = {kind: set(raw.data.get(kind, {}) or {}) for kind in REGISTRY}
+        for _, paths in raw.includes:
+            for p in paths:
+                d = self.read_toml(p) or {}
+                for kind in REGISTRY:
+                    if isinstance(d.get(kind), dict):
+                        names[kind] |= set(d[kind])
+        return names
+
+    def requirements(self, table, dims) -> Requirements | None:
+        if table is None:
+            return None
+        if not isinstance(table, dict):
+            self.add("requirements", "expected a [requirements] table", value=table)
+            return None
+        validated = None
+        try:
+            validated = Requirements.from_table(_tupleize(table))
+        except ValidationError as exc:
+            for p in translate(exc, Requirements, ("requirements",)):
+                self.problems.append(p)
+            return None
+        allowed = [d.name for d in dims if not d.labels] + ["coverage_percent", MINIMISE_SHOTS]
+        if validated.minimise not in allowed:
+            self.add("requirements.minimise", f"expected a process dimension of this study or \"{MINIMISE_SHOTS}\" "
+                     f"(here: {', '.join(allowed)})", value=validated.minimise)
+            return None
+        return validated
+
+    def build(self, raw: "_Raw", data: dict) -> Study | None:
+        """The single-point study of the merged tables ``data`` (one variant), or None with its problems."""
+        items, broken = self.build_registry(raw, data)
         for section, key, kind in REFERENCES:
             if isinstance(data.get(section), dict):
                 self.resolve_ref(data[section], key, kind, section, items, broken)
@@ -486,3 +581,13 @@ class _Loader:
         except ProfileError as exc:
             for problem in exc.problems:
                 self.add(key, problem)
+
+
+def _nested_model(annotation):
+    """The study model a field holds (a nested table such as ``johnson_cook``), or None for a value."""
+    import typing
+
+    for t in (annotation, *typing.get_args(annotation)):
+        if isinstance(t, type) and issubclass(t, BaseModel):
+            return t
+    return None

@@ -11,7 +11,7 @@ import hashlib
 from pathlib import Path
 from typing import Optional
 
-from pydantic import Field, model_validator
+from pydantic import Field, PrivateAttr, model_validator
 
 from .canonical import canonical, canonical_json
 from .fidelity import Fidelity, expand_preset
@@ -48,6 +48,27 @@ class Study(StudyModel):
     fidelity: Fidelity = Field(default_factory=lambda: Fidelity.model_validate(expand_preset({})))
     seeds: Seeds = Field(default_factory=Seeds)
     execution: Execution = Field(default_factory=Execution)
+
+    # a study with lists ([target] lists, [targets.NAME], [sweep]) is a family of single-point studies
+    # (peenflow.study.variants): this one is the first of them, and these say what the family is
+    _dims: tuple = PrivateAttr(default=())
+    _variants: tuple = PrivateAttr(default=())
+    _requirements: object = PrivateAttr(default=None)
+
+    @property
+    def dims(self) -> tuple:
+        """The process dimensions (:class:`peenflow.study.variants.Dim`), in order; () for a single point."""
+        return self._dims
+
+    @property
+    def variants(self) -> tuple:
+        """((coords, Study), ...) of every combination of the dimensions' values; ((), self) for one point."""
+        return self._variants or (({}, self),)
+
+    @property
+    def requirements(self):
+        """The [requirements] (:class:`peenflow.study.requirements.Requirements`), or None."""
+        return self._requirements
 
     @model_validator(mode="after")
     def _share_shot_diameter(self) -> "Study":

@@ -284,6 +284,20 @@ def _intensity_notation(text: str) -> str:
     return text
 
 
+def _coverage_levels(value: Any) -> Any:
+    """A coverage in percent, or a tuple of distinct levels (the REV run snapshots each)."""
+    def ok(x):
+        return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x > 0
+
+    if ok(value):
+        return float(value)
+    if isinstance(value, tuple) and value and all(ok(x) for x in value):
+        if len(set(value)) != len(value):
+            raise ValueError("expected distinct coverage levels (each once)")
+        return tuple(float(x) for x in value)
+    raise ValueError("expected a coverage in percent > 0, or a non-empty list of them")
+
+
 def _auto_or_positive_number(value: Any) -> Any:
     if value == "auto":
         return value
@@ -306,7 +320,9 @@ class Target(ShotScaled):
     velocity_m_s: Optional[Velocity] = Field(
         None, description="shot velocity in m/s; bypasses the control curve (instead of an intensity)"
     )
-    coverage_percent: Positive = Field(description="coverage in percent, e.g. 200")
+    coverage_percent: Annotated[Any, AfterValidator(_coverage_levels)] = Field(
+        description="coverage in percent, e.g. 200, or a list of levels, e.g. [100, 200, 400] (one REV run per "
+                    "sequence, snapshotted at each level)")
     sequences: PositiveInt = Field(2, description="number of random shot sequences of the final REV run")
     control_angle_rule: Literal["nearest", "interpolate"] = Field(
         "nearest", description='"nearest" computed control-curve angle, or "interpolate" linearly between two'
@@ -378,6 +394,12 @@ class Target(ShotScaled):
         if self.almen_intensity is not None:
             return parse_intensity(self.almen_intensity)[1]
         return self.almen_strip
+
+    @property
+    def coverage_levels_percent(self) -> tuple[float, ...]:
+        """The coverage levels in percent, ascending (one for a single coverage)."""
+        c = self.coverage_percent
+        return tuple(sorted(c)) if isinstance(c, tuple) else (c,)
 
     @property
     def rev_thickness_auto(self) -> bool:

@@ -31,8 +31,8 @@ def _stage_tasks() -> dict[str, Task]:
 
 
 ALL = {"arc_height", "control_curve", "coverage_curve", "dmin", "indentation", "intensity_extrapolation",
-       "residual_profile", "rev_size", "rev_thickness", "saturation", "single_impact", "strip_runs", "target_runs",
-       "target_velocity"}
+       "process_map", "residual_profile", "rev_size", "rev_thickness", "saturation", "single_impact", "strip_runs",
+       "suggested_settings", "target_runs", "target_velocity"}
 
 
 @pytest.mark.parametrize("module, dependants", [

@@ -57,7 +57,7 @@ def test_target_chain_dent_coverage_and_profile(micro):
     assert 0.5 * a_johnson < r < 2.0 * a_johnson
     cov = peenflow.open_result(micro, "coverage_curve")
     n_f = float(cov.full_coverage_shots)
-    assert float(cov.coverage_shots) == pytest.approx(n_f)  # 100 % coverage -> N_c = N_f
+    assert float(cov.coverage_shots.sel(coverage_percent=100.0)) == pytest.approx(n_f)  # 100 % coverage -> N_c = N_f
     # Coverage only grows with N and reaches full coverage by the largest N (chosen
     # for 99.9 % expected); eq. (5) describes the Monte-Carlo curve.  (The exact
     # closed form holds for independent landings and is tested in tests/methods;
@@ -70,7 +70,7 @@ def test_target_chain_dent_coverage_and_profile(micro):
     # local slope, so 25 % is 2.5 standard errors.
     crossing = float(np.interp(98.0, mean, cov.shots.values))
     assert abs(n_f - crossing) < 0.25 * crossing
-    prof = peenflow.open_result(micro, "residual_profile")
+    prof = peenflow.open_result(micro, "residual_profile").sel(coverage_percent=100.0)
     assert float(prof.stress_xx_mean_Pa[0]) < -50e6  # compressive at the surface
 
 
@@ -78,7 +78,7 @@ def test_free_part_release_is_self_equilibrated_and_bows_the_peened_face_convex(
     """The micro REV spans its 1 mm part: the free-plate release must leave zero
     net force and moment, differ from the held profile by a stress linear in
     depth, and bow the part convex on the peened face (compressive skin)."""
-    prof = peenflow.open_result(micro, "residual_profile")
+    prof = peenflow.open_result(micro, "residual_profile").sel(coverage_percent=100.0)
     assert prof.attrs["free_part"].startswith("plate 1 mm")
     z = prof.depth_m.values
     for c in ("xx", "yy"):
@@ -192,7 +192,7 @@ def test_measured_profile_from_the_template_through_run(micro, tmp_path):
     peenflow_cli("check", study)
     out = peenflow_cli("run", study).stdout
     assert out.count("+ computed") == 1  # only the comparison: everything upstream is the micro study's
-    prof = peenflow.open_result(study, "residual_profile")
+    prof = peenflow.open_result(study, "residual_profile").sel(coverage_percent=100.0)
     np.testing.assert_allclose(prof.measured_depth_m.values, [p[0] * 1e-3 for p in points], rtol=1e-12)
     np.testing.assert_allclose(prof.measured_stress_Pa.values, [p[1] * 1e6 for p in points], rtol=1e-12)
     assert list(prof.measured_component.values) == [0, 0, 0, 1]

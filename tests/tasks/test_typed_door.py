@@ -36,8 +36,10 @@ def test_only_build_graph_reads_the_study():
     build = next(f for f in ast.walk(tree) if isinstance(f, ast.FunctionDef) and f.name == "build_graph")
     body = [s for s in build.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
     # read, translate, check against the kernel's limits (before any compute), build from the parameters
-    assert [ast.unparse(s) for s in body] == ["study = load_study(path)", "p = study_params(study)",
-                                              "check_before_compute(study, p)", "return graph_for(p)"]
+    assert [ast.unparse(s) for s in body] == [
+        "study = load_study(path)", "family = study_family(study)",
+        "for (_, variant), (_, p) in zip(study.variants, family.points):\n    check_before_compute(variant, p)",
+        "return graph_for_family(family)"]
 
 
 def _points(graph) -> list[tuple]:
