@@ -35,6 +35,7 @@ from peenflow.study.accuracy import statement as fidelity_statement
 from ._common import SWEEP_COORDS
 from .arc_height import arc_height
 from .control_curve import control_curve
+from .cost_guard import refuse as refuse_unresolvable_or_unaffordable
 from .coverage_curve import coverage_curve
 from .dmin import dmin
 from .headline import headline_numbers
@@ -93,6 +94,8 @@ STAGES: dict[str, str] = {
 def build_graph(path) -> Graph:
     study = load_study(path)
     p = study_params(study)  # every stage parameter, in SI, read once
+    # before any compute, opted-out bounds or not: an impact the mesh cannot resolve, a point no worker can afford
+    refuse_unresolvable_or_unaffordable(path, study, p, IMPACT_BLOCK_D)
     g = Graph(study.name)
     g.coord_attrs = dict(SWEEP_COORDS)
     g.result_attrs = fidelity_statement(study.fidelity)  # what made each result, and its measured error
