@@ -1,11 +1,12 @@
 """What an impact costs before it runs: time steps, element updates, CPU time (plain floats).
 
 An explicit impact advances its active window in steps of the stable step of
-its smallest element,
+its smallest element, at rest (``element.py``, item 6, with no bulk viscosity)
 
-    dt = time_step_safety * h / c_p,    c_p = sqrt((lambda + 2 mu) / rho)
+    dt = time_step_safety * 2 h / (c_p sqrt(4 + f_hg)),    c_p = sqrt((lambda + 2 mu) / rho)
 
-(``solver.py``; the driver's own first estimate, ``impact.py``), and its
+(``f_hg``: :func:`peenflow.fe.element.hourglass_omega2_factor`, 1.6 for
+metals; the step shrinks as elements are compressed), and its
 contact lasts about the estimated contact time ``t_c``
 (:func:`peenflow.fe.window.contact_estimates`: the larger of the Hertz and
 the fully plastic durations), so one impact takes at least
@@ -15,14 +16,14 @@ the fully plastic durations), so one impact takes at least
 steps of ``window_elements`` element updates each, and a run of ``shots``
 impacts ``steps * window_elements * shots`` element updates, at
 :data:`ELEMENT_UPDATES_PER_CPU_S` a CPU second.  The settling after the
-contact adds 0.5-4.5x the contact's steps (micro target, 100 um, 5 / 45 /
-300 m/s: 171 / 161 / 341 steps against 115 / 74 / 62 predicted) and the
+contact adds 0.3-3.6x the contact's steps (micro target, 100 um, 5 / 45 /
+300 m/s: 171 / 161 / 341 steps against 136 / 88 / 74 predicted) and the
 relaxed snapshots of a REV run are not counted, while the elastic elements
-of a window update 2-3x faster than the rate assumed; on the shipped
-studies' costliest kinds of point the CPU time came within 2x of the one
-measured (BENCHMARKS.md, study table; 2 cores shared): the 25 um REV run of
-paper_fast_25um.toml, 369 shots, 937 s predicted, 520 s measured; the
-6.25 um single impact of paper_fast_extrapolated.toml, 309 s and 218 s.  It
+of a window update 2-3x faster than the rate assumed.  On the shipped
+studies' costliest kinds of point the prediction is 1.7-2.1x the CPU time
+measured (BENCHMARKS.md, study table, 2 shared cores): the 25 um REV run of
+paper_fast_25um.toml, 369 shots, 1108 s predicted, 520 s measured; the
+6.25 um single impact of paper_fast_extrapolated.toml, 366 s and 218 s.  It
 is an estimate for refusing what no worker can afford, not a schedule.
 
 The contact is resolved only while the shot moves less than one element per
@@ -30,7 +31,7 @@ step (:func:`shot_travel_per_step`): the kinematic contact (``contact.py``)
 puts every surface node inside the shot back onto its surface each step, so a
 shot that moves an element or more in one step crushes the elements under it
 within that step.  In the validated range (1-400 m/s) a shot moves at most
-0.07 of an element per step; at 1e6 m/s on 100 um elements it moves 146.
+0.06 of an element per step; at 1e6 m/s on 100 um elements it moves 124.
 """
 
 from __future__ import annotations
@@ -40,6 +41,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from peenflow.fe.element import hourglass_omega2_factor
+from peenflow.fe.impact import Options
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.shots import Shots
 from peenflow.fe.window import contact_estimates
@@ -56,9 +59,11 @@ def wave_speed_m_s(youngs_modulus_Pa: float, poisson_ratio: float, density_kg_m3
 
 def stable_time_step_s(element_size_m: float, youngs_modulus_Pa: float, poisson_ratio: float,
                        density_kg_m3: float, time_step_safety: float) -> float:
-    """The explicit step of an undeformed element of edge ``element_size_m`` (m), s:
-    ``time_step_safety * h / c_p``."""
-    return time_step_safety * element_size_m / wave_speed_m_s(youngs_modulus_Pa, poisson_ratio, density_kg_m3)
+    """The kernel's step on an undeformed cube of edge ``element_size_m`` (m) at rest, s (module docstring):
+    ``time_step_safety * 2 h / (c_p sqrt(4 + f_hg))``, with the kernel's default hourglass form."""
+    material = _material(youngs_modulus_Pa, poisson_ratio, density_kg_m3, math.inf)
+    f_hg = hourglass_omega2_factor(material.to_array(hourglass_type=Options.hourglass_type))
+    return time_step_safety * 2.0 * element_size_m / (material.wave_speed * math.sqrt(4.0 + f_hg))
 
 
 def contact_estimate(shot_radius_m: float, shot_density_kg_m3: float, normal_speed_m_s: float,
