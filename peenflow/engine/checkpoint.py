@@ -9,7 +9,6 @@ It is removed once the task's result is stored.
 from __future__ import annotations
 
 import shutil
-import warnings
 from pathlib import Path
 
 import xarray as xr
@@ -24,6 +23,7 @@ class Checkpoints:
     def __init__(self, directory: Path):
         self.directory = directory
         self.path = directory / CHECKPOINT_FILE
+        self.unreadable = ""  # why the last load found the checkpoint unreadable ("" if it did not)
 
     def exists(self) -> bool:
         return self.path.exists()
@@ -36,13 +36,15 @@ class Checkpoints:
         tmp.replace(self.path)
 
     def load(self) -> xr.Dataset | None:
-        """The last checkpoint, or None (an unreadable one is ignored, with a warning)."""
+        """The last checkpoint, or None: none saved, or one that cannot be read (garbage, truncated by a
+        full disk or a crash of the disk itself), whose error is then in :attr:`unreadable`."""
+        self.unreadable = ""
         if not self.path.exists():
             return None
         try:
             return read_dataset(self.path)
-        except (OSError, ValueError, RuntimeError) as exc:  # pragma: no cover - defensive
-            warnings.warn(f"ignoring unreadable checkpoint {self.path}: {exc}")
+        except (OSError, ValueError, RuntimeError) as exc:
+            self.unreadable = f"{type(exc).__name__}: {exc}"
             return None
 
     def clear(self) -> None:

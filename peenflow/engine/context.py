@@ -74,8 +74,14 @@ class TaskContext:
         })
 
     def load_checkpoint(self) -> xr.Dataset | None:
-        """The last saved checkpoint of this key, or None."""
-        return self._checkpoints.load()
+        """The last saved checkpoint of this key, or None (an unreadable one is removed, and the run's
+        report says so in one line: the task starts over)."""
+        state = self._checkpoints.load()
+        if state is None and self._checkpoints.unreadable:
+            self._checkpoints.clear()
+            self.resumed = False
+            self.notes.append("checkpoint unreadable, starting over")
+        return state
 
     def save_checkpoint(self, state: xr.Dataset) -> None:
         """Save intermediate state atomically; a later run with the same key resumes from it."""

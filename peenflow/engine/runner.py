@@ -269,14 +269,20 @@ def _compute(task, store, spec, ups, parts: KeyParts, reason, detail, upstream_k
 def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, upstream_keys) -> Outcome:
     key = parts.key
     source_hash = task.source_hash()
-    if ctx.resumed and reason is not Reason.FORCED:
-        reason, detail = Reason.INCOMPLETE, "resuming from checkpoint"
-    elif reason is Reason.FORCED and ctx.resumed:
-        if _checkpoint_predates_result(store, task.name, key):
-            ctx.clear_checkpoint()  # left by the run that made the result: not this rerun's work
-            ctx.resumed = False
-        else:  # a killed rerun of the same inputs: go on from where it stopped
-            detail = f"{detail}; resuming its own checkpoint"
+    if reason is Reason.FORCED and ctx.resumed and _checkpoint_predates_result(store, task.name, key):
+        ctx.clear_checkpoint()  # left by the run that made the result: not this rerun's work
+        ctx.resumed = False
+    planned = (reason, detail)
+
+    def said():
+        """(reason, detail) of the outcome: resuming only if the task did resume (an unreadable or
+        unusable checkpoint it dropped says so in a note instead)."""
+        if not ctx.resumed:
+            return planned
+        if planned[0] is Reason.FORCED:  # a killed rerun of the same inputs: on from where it stopped
+            return Reason.FORCED, f"{planned[1]}; resuming its own checkpoint"
+        return Reason.INCOMPLETE, "resuming from checkpoint"
+
     started = time.time()
     try:
         blas_threads = pin_blas_threads()  # same on a dask worker as here: bit-identical results
@@ -323,7 +329,7 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
     except Interrupted as exc:
         # Not a failure: the task saved a checkpoint; the next run resumes from it.
         store.clear_progress(key)
-        return _outcome(spec, key, "interrupted", reason, f"stopped {exc}; checkpoint saved, run again to resume",
+        return _outcome(spec, key, "interrupted", said()[0], f"stopped {exc}; checkpoint saved, run again to resume",
                         wall_s=time.time() - started, upstream_keys=upstream_keys)
     except Exception as exc:
         tb = traceback.format_exc()
@@ -338,12 +344,14 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
             store.clear_progress(key)
         except OSError as exc2:  # disk full or read-only: the outcome still says what failed
             error = f"{error} (and the failure record could not be written: {exc2})"
+        reason, detail = said()
         return _outcome(spec, key, "failed", reason, _join(detail, *ctx.notes), error=error,
                         wall_s=time.time() - started, upstream_keys=upstream_keys, trace=tb)
     ctx.clear_checkpoint()
     store.clear_progress(key)
     store.clear_failure(task.name, key)
     _record_slot(store, spec, parts, "done", source_hash)
+    reason, detail = said()
     return _outcome(spec, key, "computed", reason, _join(detail, *ctx.notes),
                     content_hash=manifest.content_hash, wall_s=time.time() - started, upstream_keys=upstream_keys)
 
