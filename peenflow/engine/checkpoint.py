@@ -15,6 +15,7 @@ import xarray as xr
 
 from .atomic import fsync_file, temporary_sibling
 from .netcdf_io import read_dataset, write_dataset
+from .space import no_space, remove_partial
 
 CHECKPOINT_FILE = "checkpoint.nc"
 
@@ -31,8 +32,12 @@ class Checkpoints:
     def save(self, state: xr.Dataset) -> None:
         self.directory.mkdir(parents=True, exist_ok=True)
         tmp = temporary_sibling(self.path)
-        write_dataset(state, tmp)
-        fsync_file(tmp)
+        try:
+            write_dataset(state, tmp)
+            fsync_file(tmp)
+        except (OSError, RuntimeError) as exc:  # netCDF says "HDF error", HDF5 "Permission denied" when full
+            remove_partial(tmp)
+            raise no_space(exc, self.directory, state.nbytes, "this point's checkpoint") or exc
         tmp.replace(self.path)
 
     def load(self) -> xr.Dataset | None:

@@ -33,6 +33,7 @@ from .interrupt import Interrupted, stop_reason, stop_requested
 from .keys import KeyParts, reason_against_slot
 from .lease import STALE_AFTER_S
 from .reasons import Reason
+from .space import NoSpaceLeft, is_full, no_space
 from .store import DirectoryStore
 from .task import resolve_task
 
@@ -142,8 +143,17 @@ def run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
     try:
         return _run_node(spec, ups)
     except Exception as exc:  # engine-level failure: still report, never lose the others
-        return _outcome(spec, None, "failed", "engine error", f"{type(exc).__name__}: {exc}",
-                        error=f"{type(exc).__name__}: {exc}", trace=traceback.format_exc())
+        error = failure_text(exc, DirectoryStore(spec.store_root))
+        return _outcome(spec, None, "failed", "engine error", error, error=error, trace=traceback.format_exc())
+
+
+def failure_text(exc: BaseException, store: DirectoryStore) -> str:
+    """A failure in one line: ``Type: message``, or for a full disk its cause first (:mod:`.space`)."""
+    if isinstance(exc, NoSpaceLeft):
+        return str(exc)
+    if is_full(exc):  # a small record (lease, progress, slot) found the device full
+        return str(no_space(exc, store.root, None, "a record of this point"))
+    return f"{type(exc).__name__}: {exc}"
 
 
 def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
@@ -333,7 +343,7 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
                         wall_s=time.time() - started, upstream_keys=upstream_keys)
     except Exception as exc:
         tb = traceback.format_exc()
-        error = f"{type(exc).__name__}: {exc}"
+        error = failure_text(exc, store)
         try:
             store.write_failure(task.name, key, {
                 "node_id": spec.node_id, "study": spec.study, "error": error,
@@ -343,7 +353,8 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
             _record_slot(store, spec, parts, "failed", source_hash, error=error)
             store.clear_progress(key)
         except OSError as exc2:  # disk full or read-only: the outcome still says what failed
-            error = f"{error} (and the failure record could not be written: {exc2})"
+            if not (is_full(exc) and is_full(exc2)):  # a full disk is said already
+                error = f"{error} (and the failure record could not be written: {exc2})"
         reason, detail = said()
         return _outcome(spec, key, "failed", reason, _join(detail, *ctx.notes), error=error,
                         wall_s=time.time() - started, upstream_keys=upstream_keys, trace=tb)
