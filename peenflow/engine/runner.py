@@ -31,7 +31,7 @@ from .conventions import conform, squeeze_point
 from .cores import active_budget
 from .interrupt import Interrupted, stop_reason, stop_requested
 from .keys import KeyParts, reason_against_slot
-from .lease import STALE_AFTER_S
+from .lease import STALE_AFTER_S, wait_text
 from .reasons import Reason
 from .space import NoSpaceLeft, is_full, no_space
 from .store import DirectoryStore
@@ -200,6 +200,7 @@ def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
 
     # Take the lease; while someone else holds it, wait and then reuse their result.
     waited_for_other = False
+    told, waiting_since = None, 0.0
     while True:
         lease = store.leases.try_acquire(key, f"{spec.study}:{spec.node_id}")
         if lease is not None:
@@ -215,8 +216,14 @@ def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
                             upstream_keys=upstream_keys)
         if stop_requested():
             return _outcome(spec, key, "interrupted", "not started", stop_reason(), upstream_keys=upstream_keys)
+        if info is not None and (info.host, info.pid, info.problem) != told:  # said at once, once per holder
+            told = (info.host, info.pid, info.problem)
+            waiting_since = waiting_since or time.time()
+            _notice(f"waiting for {spec.node_id}: {wait_text(info, alive)}{_holder_progress(store, key)}")
         waited_for_other = True
         time.sleep(LEASE_POLL_S)
+    if waiting_since:
+        notes.append(f"waited {time.time() - waiting_since:.0f} s for the run that held it")
 
     with lease:
         if waited_for_other or not spec.forced:
@@ -228,6 +235,34 @@ def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
         if notes:
             detail = _join(detail, *notes)
         return _compute(task, store, spec, ups, parts, reason, detail, upstream_keys)
+
+
+#: where a point's notices go while it runs (a waiting point says whom it waits for): the executor sets
+#: its reporter's for a local run; None (a dask.distributed worker): the worker's own log
+_NOTICE = None
+
+
+def set_notice(emit) -> None:
+    """Send the notices of points run in this process to ``emit(text)`` (None: to the log)."""
+    global _NOTICE
+    _NOTICE = emit
+
+
+def _notice(text: str) -> None:
+    emit = _NOTICE
+    if emit is not None:
+        emit(text)
+    else:
+        import logging
+
+        logging.getLogger("peenflow").warning(text)
+
+
+def _holder_progress(store: DirectoryStore, key: str) -> str:
+    rec = store.progress(key)
+    if not rec or rec.get("total") is None:
+        return ""
+    return f"; its progress: {rec['done']:g}/{rec['total']:g} {rec.get('unit') or ''}".rstrip()
 
 
 def _join(*parts: str) -> str:
