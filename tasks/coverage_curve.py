@@ -70,6 +70,11 @@ def coverage_curve(dent: xr.Dataset, rev: xr.Dataset, *, angle_deg: float, cover
     region = (-0.5 * measure, 0.5 * measure, -0.5 * measure, 0.5 * measure)
     gx, gy = measuring_grid(region, grid_points)
     q = ellipse.area / side ** 2
+    if q >= 1.0:  # one shot covers the whole REV: coverage has no curve, eq. (5) no rate
+        raise ValueError(
+            f"the REV's top surface ({side * 1e3:.4g} mm square, {side ** 2 * 1e6:.4g} mm2) is smaller than one dent "
+            f"({ellipse.area * 1e6:.4g} mm2): the REV holds less than one dent, so its coverage cannot grow shot by "
+            "shot. What to change: a larger target.rev_size_mm (its validated range: at least 1 D and 10 elements)")
     if shot_counts:
         counts = np.asarray(sorted(shot_counts), dtype=int)
     else:

@@ -48,14 +48,12 @@ from .residual_profile import residual_profile
 from .rev_size import rev_size
 from .rev_thickness import rev_thickness
 from .saturation import saturation
-from .single_impact import single_impact
+from .single_impact import IMPACT_BLOCK_D, single_impact
 from .strip_runs import strip_runs
 from .strip_sequences import sequences_rule
 from .target_runs import target_runs
 from .target_velocity import target_velocity
 
-#: single-impact / two-shot block: half width and depth in shot diameters
-IMPACT_BLOCK_D = 2.0
 
 
 #: Every stage a study can have, in dependency order, with when it runs: the

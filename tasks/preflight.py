@@ -56,10 +56,14 @@ def problems(study, p: StudyParams) -> list[Problem]:
 
 
 def check_before_compute(study, p: StudyParams) -> None:
-    """Raise :class:`StudyError` listing :func:`problems`, if any."""
-    found = problems(study, p)
+    """Raise :class:`StudyError` listing :func:`problems` and the cost guard's (:mod:`tasks.cost_guard`: an
+    impact no mesh of the study resolves, a point no worker can afford, a REV smaller than a dent), if any."""
+    from .cost_guard import problems as cost_problems
+    from .single_impact import IMPACT_BLOCK_D
+
+    found = [pr.render(study.path) for pr in problems(study, p)] + cost_problems(study, p, IMPACT_BLOCK_D)
     if found:
-        raise StudyError(study.path, [pr.render(study.path) for pr in found])
+        raise StudyError(study.path, found)
 
 
 def study_problems(path: str | Path) -> list[str]:
@@ -69,7 +73,11 @@ def study_problems(path: str | Path) -> list[str]:
     if found:
         return found
     study = load_study(path)
-    return [pr.render(study.path) for pr in problems(study, study_params(study))]
+    try:
+        check_before_compute(study, study_params(study))
+    except StudyError as exc:
+        return exc.problems
+    return []
 
 
 def _impacts(study, p: StudyParams, strips_only: bool):

@@ -48,6 +48,9 @@ OUTPUTS = Outputs(
 )
 
 
+#: single-impact / two-shot block: half width and depth in shot diameters
+IMPACT_BLOCK_D = 2.0
+
 #: the fine zone of a single impact's block, as a fraction of its half width
 FINE_HALF_FRACTION = 0.6
 

@@ -67,15 +67,24 @@ class TaskContext:
             # ETA base: this process's start, or for a resumed point its first
             # record (the work before it came from the checkpoint)
             self._progress_base = (now, done) if self.resumed else (self._started, 0.0)
-        self._store.write_progress(self.key, {
-            "study": self.study, "point": self.point, "done": done, "total": total,
-            "unit": unit, "note": note, "time": now,
-            "started": self._progress_base[0], "base": self._progress_base[1],
-        })
+        try:
+            self._store.write_progress(self.key, {
+                "study": self.study, "point": self.point, "done": done, "total": total,
+                "unit": unit, "note": note, "time": now,
+                "started": self._progress_base[0], "base": self._progress_base[1],
+            })
+        except OSError:  # progress is only shown: a full disk fails the result's write, with its cause
+            pass
 
     def load_checkpoint(self) -> xr.Dataset | None:
-        """The last saved checkpoint of this key, or None."""
-        return self._checkpoints.load()
+        """The last saved checkpoint of this key, or None (an unreadable one is removed, and the run's
+        report says so in one line: the task starts over)."""
+        state = self._checkpoints.load()
+        if state is None and self._checkpoints.unreadable:
+            self._checkpoints.clear()
+            self.resumed = False
+            self.notes.append("checkpoint unreadable, starting over")
+        return state
 
     def save_checkpoint(self, state: xr.Dataset) -> None:
         """Save intermediate state atomically; a later run with the same key resumes from it."""

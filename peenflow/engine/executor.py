@@ -29,7 +29,7 @@ from .cores import CoreBudget, set_active_budget, wanted_threads
 from .graph import Graph, Group, Node
 from .lease import STALE_AFTER_S
 from .progress import Reporter
-from .runner import Outcome, PointSpec, UpstreamRef, run_node
+from .runner import Outcome, PointSpec, UpstreamRef, run_node, set_notice
 from .store import DirectoryStore
 
 #: seconds to wait for a dask scheduler to answer (``$PEENFLOW_SCHEDULER_TIMEOUT_S``)
@@ -202,10 +202,12 @@ def _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter,
     try:
         if scheduler is None:
             set_active_budget(budget)
+            set_notice(reporter.notice)
             try:
                 outcomes = _run_local(dsk, keys, workers, reporter)
             finally:
                 set_active_budget(None)
+                set_notice(None)
         else:
             outcomes = _run_distributed(dsk, keys, scheduler, reporter)
     finally:

@@ -136,6 +136,20 @@ def verdict(info: LeaseInfo) -> tuple[bool | None, str]:
     return None, f"held by another host ({info.host})"
 
 
+def wait_text(info: LeaseInfo, alive: bool | None) -> str:
+    """Who a run waiting for a lease waits for, and for how long at most (by :func:`verdict`'s rule)."""
+    if info.problem:
+        return (f"its lease has {info.problem} ({info.heartbeat_age_s:.0f} s old; an owner writes it right after "
+                f"taking the lease): at most {OWNERLESS_GRACE_S:.0f} s, then this run takes the point over")
+    holder = (f"pid {info.pid} on host {info.host} computes it (last heartbeat {info.heartbeat_age_s:.0f} s ago, "
+              f"every {HEARTBEAT_S:.0f} s)")
+    if alive is None:  # another host: judged by its heartbeat alone
+        return (f"{holder}: as long as that run's heartbeat goes on; if it stops for {STALE_AFTER_S:.0f} s the point "
+                "is reported blocked")
+    return (f"{holder}: as long as that run's heartbeat goes on, and at most {LOCAL_DEAD_AFTER_S:.0f} s after it "
+            "stops, then this run takes the point over")
+
+
 class Lease:
     """A held lease; release it with :meth:`release` (or use as context manager)."""
 

@@ -112,6 +112,11 @@ class Reporter:
             else:
                 print(text, file=self.stream, flush=True)
 
+    def notice(self, text: str) -> None:
+        """Something a running point says at once (e.g. whom it waits for), stamped like progress lines."""
+        if not self.quiet:
+            self.line(text if self.live else f"{self._stamp()}  {text}")
+
     def _stamp(self) -> str:
         return datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M:%S")
 

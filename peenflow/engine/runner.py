@@ -31,8 +31,9 @@ from .conventions import conform, squeeze_point
 from .cores import active_budget
 from .interrupt import Interrupted, stop_reason, stop_requested
 from .keys import KeyParts, reason_against_slot
-from .lease import STALE_AFTER_S
+from .lease import STALE_AFTER_S, wait_text
 from .reasons import Reason
+from .space import NoSpaceLeft, is_full, no_space
 from .store import DirectoryStore
 from .task import resolve_task
 
@@ -142,8 +143,17 @@ def run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
     try:
         return _run_node(spec, ups)
     except Exception as exc:  # engine-level failure: still report, never lose the others
-        return _outcome(spec, None, "failed", "engine error", f"{type(exc).__name__}: {exc}",
-                        error=f"{type(exc).__name__}: {exc}", trace=traceback.format_exc())
+        error = failure_text(exc, DirectoryStore(spec.store_root))
+        return _outcome(spec, None, "failed", "engine error", error, error=error, trace=traceback.format_exc())
+
+
+def failure_text(exc: BaseException, store: DirectoryStore) -> str:
+    """A failure in one line: ``Type: message``, or for a full disk its cause first (:mod:`.space`)."""
+    if isinstance(exc, NoSpaceLeft):
+        return str(exc)
+    if is_full(exc):  # a small record (lease, progress, slot) found the device full
+        return str(no_space(exc, store.root, None, "a record of this point"))
+    return f"{type(exc).__name__}: {exc}"
 
 
 def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
@@ -190,6 +200,7 @@ def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
 
     # Take the lease; while someone else holds it, wait and then reuse their result.
     waited_for_other = False
+    told, waiting_since = None, 0.0
     while True:
         lease = store.leases.try_acquire(key, f"{spec.study}:{spec.node_id}")
         if lease is not None:
@@ -205,8 +216,14 @@ def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
                             upstream_keys=upstream_keys)
         if stop_requested():
             return _outcome(spec, key, "interrupted", "not started", stop_reason(), upstream_keys=upstream_keys)
+        if info is not None and (info.host, info.pid, info.problem) != told:  # said at once, once per holder
+            told = (info.host, info.pid, info.problem)
+            waiting_since = waiting_since or time.time()
+            _notice(f"waiting for {spec.node_id}: {wait_text(info, alive)}{_holder_progress(store, key)}")
         waited_for_other = True
         time.sleep(LEASE_POLL_S)
+    if waiting_since:
+        notes.append(f"waited {time.time() - waiting_since:.0f} s for the run that held it")
 
     with lease:
         if waited_for_other or not spec.forced:
@@ -218,6 +235,34 @@ def _run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
         if notes:
             detail = _join(detail, *notes)
         return _compute(task, store, spec, ups, parts, reason, detail, upstream_keys)
+
+
+#: where a point's notices go while it runs (a waiting point says whom it waits for): the executor sets
+#: its reporter's for a local run; None (a dask.distributed worker): the worker's own log
+_NOTICE = None
+
+
+def set_notice(emit) -> None:
+    """Send the notices of points run in this process to ``emit(text)`` (None: to the log)."""
+    global _NOTICE
+    _NOTICE = emit
+
+
+def _notice(text: str) -> None:
+    emit = _NOTICE
+    if emit is not None:
+        emit(text)
+    else:
+        import logging
+
+        logging.getLogger("peenflow").warning(text)
+
+
+def _holder_progress(store: DirectoryStore, key: str) -> str:
+    rec = store.progress(key)
+    if not rec or rec.get("total") is None:
+        return ""
+    return f"; its progress: {rec['done']:g}/{rec['total']:g} {rec.get('unit') or ''}".rstrip()
 
 
 def _join(*parts: str) -> str:
@@ -269,14 +314,20 @@ def _compute(task, store, spec, ups, parts: KeyParts, reason, detail, upstream_k
 def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, upstream_keys) -> Outcome:
     key = parts.key
     source_hash = task.source_hash()
-    if ctx.resumed and reason is not Reason.FORCED:
-        reason, detail = Reason.INCOMPLETE, "resuming from checkpoint"
-    elif reason is Reason.FORCED and ctx.resumed:
-        if _checkpoint_predates_result(store, task.name, key):
-            ctx.clear_checkpoint()  # left by the run that made the result: not this rerun's work
-            ctx.resumed = False
-        else:  # a killed rerun of the same inputs: go on from where it stopped
-            detail = f"{detail}; resuming its own checkpoint"
+    if reason is Reason.FORCED and ctx.resumed and _checkpoint_predates_result(store, task.name, key):
+        ctx.clear_checkpoint()  # left by the run that made the result: not this rerun's work
+        ctx.resumed = False
+    planned = (reason, detail)
+
+    def said():
+        """(reason, detail) of the outcome: resuming only if the task did resume (an unreadable or
+        unusable checkpoint it dropped says so in a note instead)."""
+        if not ctx.resumed:
+            return planned
+        if planned[0] is Reason.FORCED:  # a killed rerun of the same inputs: on from where it stopped
+            return Reason.FORCED, f"{planned[1]}; resuming its own checkpoint"
+        return Reason.INCOMPLETE, "resuming from checkpoint"
+
     started = time.time()
     try:
         blas_threads = pin_blas_threads()  # same on a dask worker as here: bit-identical results
@@ -323,11 +374,11 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
     except Interrupted as exc:
         # Not a failure: the task saved a checkpoint; the next run resumes from it.
         store.clear_progress(key)
-        return _outcome(spec, key, "interrupted", reason, f"stopped {exc}; checkpoint saved, run again to resume",
+        return _outcome(spec, key, "interrupted", said()[0], f"stopped {exc}; checkpoint saved, run again to resume",
                         wall_s=time.time() - started, upstream_keys=upstream_keys)
     except Exception as exc:
         tb = traceback.format_exc()
-        error = f"{type(exc).__name__}: {exc}"
+        error = failure_text(exc, store)
         try:
             store.write_failure(task.name, key, {
                 "node_id": spec.node_id, "study": spec.study, "error": error,
@@ -337,13 +388,16 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
             _record_slot(store, spec, parts, "failed", source_hash, error=error)
             store.clear_progress(key)
         except OSError as exc2:  # disk full or read-only: the outcome still says what failed
-            error = f"{error} (and the failure record could not be written: {exc2})"
+            if not (is_full(exc) and is_full(exc2)):  # a full disk is said already
+                error = f"{error} (and the failure record could not be written: {exc2})"
+        reason, detail = said()
         return _outcome(spec, key, "failed", reason, _join(detail, *ctx.notes), error=error,
                         wall_s=time.time() - started, upstream_keys=upstream_keys, trace=tb)
     ctx.clear_checkpoint()
     store.clear_progress(key)
     store.clear_failure(task.name, key)
     _record_slot(store, spec, parts, "done", source_hash)
+    reason, detail = said()
     return _outcome(spec, key, "computed", reason, _join(detail, *ctx.notes),
                     content_hash=manifest.content_hash, wall_s=time.time() - started, upstream_keys=upstream_keys)
 

@@ -40,6 +40,7 @@ from .canonical import digest
 from .content import dataset_content_hash
 from .lease import LeaseTable
 from .netcdf_io import open_lazy, read_dataset, write_dataset
+from .space import no_space, remove_partial
 
 
 class StoreError(RuntimeError):
@@ -167,10 +168,13 @@ class DirectoryStore:
         tmp = temporary_sibling(final)
         try:
             write_dataset(ds, tmp)
+            fsync_file(tmp)
         except (TypeError, ValueError) as exc:
             tmp.unlink(missing_ok=True)
             raise StoreError(f"task {task!r} returned a Dataset that cannot be stored as netCDF: {exc}") from exc
-        fsync_file(tmp)
+        except (OSError, RuntimeError) as exc:  # netCDF says "HDF error" for a full disk
+            remove_partial(tmp)
+            raise no_space(exc, final.parent, ds.nbytes, "this point's result") or exc
         # Hash what was written, as it reads back: later readers see exactly this.
         content = dataset_content_hash(read_dataset(tmp))
         sha = file_sha256(tmp)
@@ -185,7 +189,10 @@ class DirectoryStore:
             os.replace(final, final.with_name(f"{key}.superseded-{stamp}.nc"))
         os.replace(tmp, final)
         manifest = Manifest(task, key, content, sha, size, parts, source_hash, time.time())
-        write_json_atomic(self.manifest_path(task, key), manifest.to_dict())
+        try:
+            write_json_atomic(self.manifest_path(task, key), manifest.to_dict())
+        except OSError as exc:  # the file without its manifest is never trusted: the next run recomputes it
+            raise no_space(exc, final.parent, 2e3, "this point's manifest") or exc
         return manifest
 
     def open(self, task: str, key: str) -> xr.Dataset:

@@ -14,6 +14,7 @@ import xarray as xr
 from engine_helpers import live_entries as _live, peenflow, statuses, write_toy
 
 from peenflow.engine import DirectoryStore, load_graph, plan
+from peenflow.engine.checkpoint import Checkpoints
 
 
 def _start(*args):
@@ -114,3 +115,28 @@ def test_a_killed_rerun_resumes_its_own_checkpoint(tmp_path):
     assert "resuming its own checkpoint" in out
     ds = DirectoryStore(store).open("counter", _counter(study, store).key)
     assert int(ds.started_at_step) >= reached and float(ds.acc) == sum(range(16))
+
+
+@pytest.mark.parametrize("damage", ["garbage", "truncated"])
+def test_an_unreadable_checkpoint_is_said_in_one_line_and_the_point_starts_over(tmp_path, damage):
+    study = write_toy(tmp_path / "s", steps=6)
+    store = tmp_path / "s" / ".peenflow"
+    peenflow("run", study, "--until", "source")
+    key = _counter(study, store).key
+    ck = DirectoryStore(store).checkpoint_dir(key)
+    if damage == "garbage":
+        ck.mkdir(parents=True)
+        (ck / "checkpoint.nc").write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(range(256)) * 4)
+    else:  # a real checkpoint at step 4, cut in half (a full disk, a crash of the disk itself)
+        Checkpoints(ck).save(xr.Dataset({"step": ((), 4), "acc": ((), 6.0)}))
+        data = (ck / "checkpoint.nc").read_bytes()
+        (ck / "checkpoint.nc").write_bytes(data[: len(data) // 2])
+    proc = peenflow("run", study)
+    line = next(x for x in proc.stdout.splitlines() if " counter " in x)
+    assert line.startswith("+ computed") and "checkpoint unreadable, starting over" in line
+    assert "resuming" not in line
+    assert proc.stderr == ""  # no UserWarning and its source line
+    ds = DirectoryStore(store).open("counter", key)
+    assert ds.attrs["peenflow_resumed"] == 0
+    assert int(ds.started_at_step) == 0 and float(ds.acc) == sum(range(6))
+    assert not ck.exists()

@@ -137,3 +137,48 @@ def test_a_released_lease_never_removes_the_one_another_run_took_since(tmp_path)
     assert store.leases.path("k" * 32).exists() and store.leases.info("k" * 32).point == "second"
     theirs.release()
     assert not store.leases.path("k" * 32).exists()
+
+
+def test_a_run_waiting_for_a_live_holder_says_at_once_whom_and_how_long_in_a_pipe(tmp_path, unrelated_process):
+    """A lease held by a live process with a fresh heartbeat: `run` (output to a pipe, not a terminal)
+    names the holder and the longest wait within seconds, not after the 60 s it takes to judge it dead."""
+    import queue
+    import threading
+
+    study, store, item = _scale_point(tmp_path)
+    pid, host = unrelated_process.pid, socket.gethostname()
+    lease = _owner(store, item.key, {"host": host, "pid": pid, "pid_start": L.process_start_time(pid),
+                                     "started": time.time(), "point": f"toy:{item.node.node_id}"})
+    proc = subprocess.Popen([sys.executable, "-m", "peenflow.cli", "run", str(study)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    lines: queue.Queue = queue.Queue()
+    reader = threading.Thread(target=lambda: [lines.put(x) for x in proc.stdout], daemon=True)
+    reader.start()
+    t0 = time.time()
+    try:
+        while True:
+            line = lines.get(timeout=max(0.1, 30 - (time.time() - t0)))
+            if "waiting for" in line:
+                break
+        said_after = time.time() - t0
+        beating = time.time()
+        while time.time() - beating < 3.0:  # the holder goes on beating: the run goes on waiting
+            os.utime(lease / "owner.json")
+            time.sleep(0.5)
+        assert proc.poll() is None
+        L._remove_dir(lease)  # the holder ends without a result: the run computes the point itself
+        proc.wait(timeout=60)
+        reader.join(timeout=10)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    took = time.time() - t0
+    assert said_after < 15.0  # at once (the rest is the interpreter starting)
+    assert line.split()[2:4] == ["waiting", "for"] and line[:4].isdigit()  # timestamped like progress lines
+    assert f"waiting for {item.node.node_id}: pid {pid} on host {host} computes it (last heartbeat " in line
+    assert f"at most {L.LOCAL_DEAD_AFTER_S:.0f} s after it stops, then this run takes the point over" in line
+    assert proc.returncode == 0 and "Traceback" not in proc.stderr.read()
+    rest = [lines.get() for _ in range(lines.qsize())]
+    done = next(x for x in rest if f" {item.node.node_id} " in x)
+    assert done.startswith("+ computed") and "waited" in done
+    assert took < L.LOCAL_DEAD_AFTER_S  # it never had to wait for the holder to be judged dead

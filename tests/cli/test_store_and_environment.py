@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import errno
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -92,7 +94,51 @@ def test_a_full_disk_fails_the_points_with_one_line_each(tmp_path):
     assert "Traceback" not in proc.stdout + proc.stderr
     failed = [line for line in proc.stdout.splitlines() if line.startswith("  failed:")]
     assert failed and all(len(line) < 400 for line in failed)
-    assert any("No space left on device" in line for line in failed)
+    # the cause first ("NetCDF: HDF error" is what netCDF says), what the point needs, that nothing was lost
+    assert all(line.split(": ", 2)[2].startswith("no space left on the store's device") for line in failed)
+    assert "source: no space left" in proc.stdout and "this point's result needs about 320 kB" in proc.stdout
+    assert all("nothing finished was lost" in line for line in failed)
+    assert "HDF error" not in proc.stdout
+
+
+def test_a_full_disk_at_a_result_s_write_names_the_cause_first_and_loses_nothing(tmp_path, monkeypatch, capsys):
+    """No space left (ENOSPC) injected at the write of every scale result, in-process through the CLI."""
+    from peenflow.cli import main
+    from peenflow.engine import store as store_module
+
+    study = write_toy(tmp_path / "s", n=20000)  # each scale result: 2 x 20 000 float64 = 320 kB
+    store = tmp_path / "s" / ".peenflow"
+    assert main(["run", str(study), "--until", "source", "--quiet"]) == 0
+    before = result_files(store)
+    real = store_module.write_dataset
+
+    def full_at_scale(ds, path):
+        if path.parent.name == "scale":
+            path.write_bytes(b"\0" * 4096)  # what a full disk leaves: part of the temporary file
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
+        real(ds, path)
+
+    monkeypatch.setattr(store_module, "write_dataset", full_at_scale)
+    capsys.readouterr()
+    assert main(["run", str(study)]) == 1
+    out = capsys.readouterr().out
+    st = statuses(out)
+    assert st["source"] == "reused" and st["counter"] == "computed" and st["total"] == "skipped"
+    failed = [line for line in out.splitlines() if line.startswith("  failed:")]
+    assert len(failed) == 3 and all(" scale[factor=" in line for line in failed)
+    for line in failed:
+        cause = line.split(": ", 2)[2]
+        assert cause.startswith(f"no space left on the store's device ({store / 'results' / 'scale'}: ")
+        assert "this point's result needs about 320 kB; nothing finished was lost" in cause
+        assert "Errno" not in cause and "Traceback" not in out
+    after = result_files(store)
+    assert all(after[name] == data for name, data in before.items())  # what was finished is untouched
+    assert DirectoryStore(store).temporary_files() == []  # the partial files were removed
+    monkeypatch.setattr(store_module, "write_dataset", real)  # room again: the next run computes the rest
+    assert main(["run", str(study)]) == 0
+    st = statuses(capsys.readouterr().out)
+    assert {st[f"scale[factor={f}]"] for f in (1, 2, 3)} == {"computed"} and st["total"] == "computed"
+    assert st["source"] == st["counter"] == "reused"
 
 
 @pytest.mark.slow
