@@ -100,13 +100,13 @@ class MeasuredStrips:
 
 
 def _unknown_column(name: str) -> str:
-    low = name.lower()
-    if low.startswith("arc") or "height" in low:
+    bare = name.replace(" ", "_").replace("-", "_")
+    if bare in ("arc_height", "height", "arc", "archeight"):
         return (f"column {name!r} does not name its unit; expected arc_height_mm, arc_height_in or arc_height_thou "
                 "(thousandths of an inch)")
-    if low.startswith("time"):
-        return f"column {name!r}: expected time_min (exposure time in minutes)"
-    if low.startswith("cover"):
+    if bare in ("time", "exposure", "exposure_time"):
+        return f"column {name!r} does not name its unit; expected time_min (minutes), passes, shots or coverage_percent"
+    if bare == "coverage":
         return f"column {name!r}: expected coverage_percent"
     return f"unknown column {name!r}{suggest(name, [*EXPOSURE_COLUMNS, *ARC_HEIGHT_COLUMNS])}; expected {_EXPECTED}"
 
@@ -125,12 +125,14 @@ def _header(header: list[str], fname: str) -> tuple[str, str]:
         problems.append(f"{len(exposure)} exposure columns ({', '.join(exposure)}); expected one")
     if len(height) > 1:
         problems.append(f"{len(height)} arc-height columns ({', '.join(height)}); expected one")
-    if not exposure:
+    # an unknown column's message says already what is expected
+    unknown = any(h not in EXPOSURE_COLUMNS and h not in ARC_HEIGHT_COLUMNS for h in header)
+    if not exposure and not unknown:
         problems.append("no exposure column; expected time_min, passes, shots or coverage_percent")
-    if not height:
+    if not height and not unknown:
         problems.append("no arc-height column; expected arc_height_mm, arc_height_in or arc_height_thou")
     if problems:
-        raise AlmenStripsError([f"{fname}: header {header}: {p}" for p in problems])
+        raise AlmenStripsError([f"{fname}: header {', '.join(header)}: {'; '.join(problems)}"])
     return exposure[0], height[0]
 
 
@@ -162,6 +164,8 @@ def read_almen_strips(path: Path) -> MeasuredStrips:
         raise AlmenStripsError([f"{path.name} has no header row; expected {_EXPECTED}"])
     rows = list(zip((n for n, _ in lines), csv.reader(line for _, line in lines)))
     header = [h.strip().lower() for h in rows[0][1]]
+    while header and not header[-1]:  # spreadsheets write trailing separators
+        header.pop()
     ex_col, ah_col = _header(header, path.name)
     i_ex, i_ah = header.index(ex_col), header.index(ah_col)
     ex_unit = EXPOSURE_COLUMNS[ex_col][2]
