@@ -19,7 +19,6 @@ line number); :func:`almen_strips_intensity` runs the saturation solver of
 
 from __future__ import annotations
 
-import csv
 import hashlib
 import math
 from dataclasses import dataclass
@@ -27,6 +26,7 @@ from pathlib import Path
 
 from .._toml import load_toml
 from ..methods.measured_strips import StripDataError, StripIntensity, strip_intensity
+from ._csv import CsvFileError, read_commented_csv
 from .errors import suggest
 from .intensity import INCH_MM
 
@@ -52,12 +52,8 @@ _SHOWN = 5  # bad lines listed in a message before "..."
 _STRIP_LIBRARY = Path(__file__).resolve().parent / "library" / "strips.toml"
 
 
-class AlmenStripsError(ValueError):
-    """The CSV cannot be used; ``problems`` lists each reason (with line numbers)."""
-
-    def __init__(self, problems: list[str]):
-        super().__init__("; ".join(problems))
-        self.problems = problems
+class AlmenStripsError(CsvFileError):
+    """The strips CSV cannot be used; ``problems`` lists each reason (with line numbers)."""
 
 
 @dataclass(frozen=True)
@@ -153,16 +149,7 @@ def _cell(row: list[str], idx: int, column: str, what: str) -> tuple[float | Non
 def read_almen_strips(path: Path) -> MeasuredStrips:
     """Parse and check the CSV; raises :class:`AlmenStripsError` naming every bad line."""
     path = Path(path)
-    raw = path.read_bytes()
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise AlmenStripsError([f"{path.name} is not a UTF-8 text file ({exc.reason} at byte {exc.start})"]) from None
-    lines = [(n, line) for n, line in enumerate(text.splitlines(), start=1)
-             if line.strip() and not line.lstrip().startswith("#")]
-    if not lines:
-        raise AlmenStripsError([f"{path.name} has no header row; expected {_EXPECTED}"])
-    rows = list(zip((n for n, _ in lines), csv.reader(line for _, line in lines)))
+    raw, rows = read_commented_csv(path, AlmenStripsError, _EXPECTED)
     header = [h.strip().lower() for h in rows[0][1]]
     while header and not header[-1]:  # spreadsheets write trailing separators
         header.pop()
