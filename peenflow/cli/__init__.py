@@ -8,6 +8,7 @@
     peenflow check STUDY
     peenflow clean STUDY [--dry-run]
     peenflow unlock STUDY [KEY ... | --all]
+    peenflow intensity STRIPS.csv --strip {N,A,C}
     peenflow --version
 """
 
@@ -16,9 +17,9 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import check, clean, report, rerun, run, show, status, unlock
+from . import check, clean, intensity, report, rerun, run, show, status, unlock
 
-VERBS = [run, status, rerun, show, report, check, clean, unlock]
+VERBS = [run, status, rerun, show, report, check, clean, unlock, intensity]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -10,6 +10,7 @@ name says otherwise (``angle_deg``, ``*_percent``). One concept per module:
 * :mod:`.residual_profile` -- depth profiles, region averaging per layer, self-equilibrium check
 * :mod:`.arc_height`       -- Almen strips, clamping force/moment and arc height (eqs. 6-9)
 * :mod:`.saturation`       -- saturation fits (eq. 10, SAE J2597 style), eq. (11), intensity
+* :mod:`.measured_strips`  -- a shop's measured strips: the three fits judged, one intensity reported
 * :mod:`.ladder`           -- a doubling shot ladder and when it may stop (eq. (11) inside its data)
 * :mod:`.sequences`        -- adaptive sequences: enough when the intensity's standard error meets a tolerance
 * :mod:`.control_curve`    -- intensity vs velocity per angle, inverse, angle interpolation
@@ -44,6 +45,7 @@ from .dmin import (
 from .indentation import DentEllipse, dent_ellipse
 from .mesh_extrapolation import PairedCorrection, extrapolation_factor, paired_correction, two_level_limit
 from .ladder import LadderVerdict, doubling_ladder, ladder_verdict
+from .measured_strips import FitVerdict, StripDataError, StripIntensity, strip_intensity
 from .residual_profile import VOIGT, DepthProfile, EquilibriumResidual, LayerAverage, average_over_region, equilibrium_residual
 from .saturation import GROWTH_RATIO, SaturationFit, SequenceSaturation, fit_saturation, fit_sequences
 from .sequences import SequencesVerdict, sequences_verdict
@@ -58,6 +60,7 @@ __all__ = [
     "regions_overlap", "single_impact_region_radius", "stress_region",
     "DentEllipse", "dent_ellipse",
     "LadderVerdict", "doubling_ladder", "ladder_verdict",
+    "FitVerdict", "StripDataError", "StripIntensity", "strip_intensity",
     "PairedCorrection", "extrapolation_factor", "paired_correction", "two_level_limit",
     "VOIGT", "DepthProfile", "EquilibriumResidual", "LayerAverage", "average_over_region", "equilibrium_residual",
     "GROWTH_RATIO", "SaturationFit", "SequenceSaturation", "fit_saturation", "fit_sequences",

@@ -16,22 +16,19 @@ again and the result key is that of the content that was validated.
 
 from __future__ import annotations
 
-import csv
 import hashlib
 import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from ._csv import CsvFileError, read_commented_csv
+
 PROFILE_COLUMNS = ("depth_mm", "stress_MPa", "component")
 PROFILE_COMPONENTS = ("xx", "yy")
 
 
-class ProfileError(ValueError):
-    """The CSV cannot be used; ``problems`` lists each reason (with line numbers)."""
-
-    def __init__(self, problems: list[str]):
-        super().__init__("; ".join(problems))
-        self.problems = problems
+class ProfileError(CsvFileError):
+    """The profile CSV cannot be used; ``problems`` lists each reason (with line numbers)."""
 
 
 @dataclass(frozen=True)
@@ -64,16 +61,7 @@ class MeasuredProfile:
 def read_measured_profile(path: Path) -> MeasuredProfile:
     """Parse and check the CSV; raises :class:`ProfileError` naming every bad row."""
     path = Path(path)
-    raw = path.read_bytes()
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise ProfileError([f"{path.name} is not a UTF-8 text file ({exc.reason} at byte {exc.start})"]) from None
-    lines = [(n, line) for n, line in enumerate(text.splitlines(), start=1)
-             if line.strip() and not line.lstrip().startswith("#")]
-    if not lines:
-        raise ProfileError([f"{path.name} has no header row; expected {', '.join(PROFILE_COLUMNS)}"])
-    rows = list(zip((n for n, _ in lines), csv.reader(line for _, line in lines)))
+    raw, rows = read_commented_csv(path, ProfileError, ", ".join(PROFILE_COLUMNS))
     header = [h.strip() for h in rows[0][1]]
     missing = [c for c in PROFILE_COLUMNS if c not in header]
     if missing:
