@@ -100,24 +100,18 @@ def element_rate(shape, threads, plastic, reps=None, blocked=True, dtype=np.floa
 
 
 def throughput():
-    from kernel_float32 import build
-
-    f32 = build()
     print(f"# element-updates/s (M/s), element pass only; loadavg at start {loadavg()}, {os.cpu_count()} cores")
     print("# each cell: wall-clock rate / rate per CPU-second actually received (process CPU time / threads)")
     for b in (True, False):
         for th in (1, 2):
             element_rate((4, 4, 4), th, False, 2, b)
-    for th in (1, 2):
-        element_rate((4, 4, 4), th, False, 2, dtype=np.float32, kernels=f32)
-    print("| mesh | elements | threads | blocked elastic | blocked plastic | float32 elastic | float32 plastic | "
-          "per-element elastic | per-element plastic | load |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| mesh | elements | threads | blocked elastic | blocked plastic | per-element elastic | per-element plastic "
+          "| load |")
+    print("|---|---|---|---|---|---|---|---|")
     for shape in ((20, 20, 20), (60, 60, 60), (120, 120, 40)):
         for th in (1, 2):
             l0 = loadavg()
             r = [element_rate(shape, th, p) for p in (False, True)]
-            r += [element_rate(shape, th, p, dtype=np.float32, kernels=f32) for p in (False, True)]
             r += [element_rate(shape, th, p, blocked=False) for p in (False, True)]
             print(f"| {shape[0]}x{shape[1]}x{shape[2]} | {np.prod(shape)} | {th} | "
                   + " | ".join(f"{w:.2f} / {c:.2f}" for w, c in r) + f" | {l0}-{loadavg()} |", flush=True)
