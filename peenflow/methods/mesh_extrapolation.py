@@ -12,7 +12,8 @@ so two levels h_c > h_f give the limit (Richardson extrapolation with a known or
 Why paired: both levels run the *same* random shot streams (the same seeds), so a
 sequence's fine-minus-coarse difference is almost free of the sampling noise of the
 sequences themselves (the per-sequence intensities of one point spread by 0.001-0.008 mm,
-their fine-minus-coarse differences by 0.001-0.003 mm: benchmarks/reference/study_level.json).
+their fine-minus-coarse differences by 0.001-0.003 mm: the study-level references,
+peenflow/validation/data/study_level.json).
 The correction is therefore taken from per-sequence differences over the sequences both
 levels ran, and added to the fine level's own value:
 

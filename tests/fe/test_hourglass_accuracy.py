@@ -1,28 +1,24 @@
 """Single-impact accuracy of the physical hourglass form against the converged references.
 
 The references (6.25 um physical element, Richardson-extrapolated where the
-25 / 12.5 / 6.25 um sequence converges cleanly) are stored in
-benchmarks/reference/hourglass.json by ``benchmarks/bench_hourglass.py``
-(the command of every run is stored with it; BENCHMARKS.md section 4c).
-Each test reruns one case at a coarse element size with the same setup and
-metrics and asserts its error. Where the issue's goal (13 §1) is met the goal
-is the tolerance; where it is not, the tolerance is the measured error
-rounded up, named ``MISSED`` so the gap stays visible (README, BENCHMARKS.md
-4c).
+25 / 12.5 / 6.25 um sequence converges cleanly) are those of the stored runs
+(peenflow/validation/data/single_impact.json, made by ``benchmarks/single_impact.py``;
+BENCHMARKS.md section 4c). Each test reruns one case at a coarse element size
+with the same setup and metrics and asserts its error. Where the issue's goal
+(13 §1) is met the goal is the tolerance; where it is not, the tolerance is the
+measured error rounded up, named ``MISSED`` so the gap stays visible (README,
+BENCHMARKS.md 4c).
 """
-
-import json
-import sys
-from pathlib import Path
 
 import pytest
 
-BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
-sys.path.insert(0, str(BENCH))
-import bench_hourglass as bh  # noqa: E402
+from peenflow.validation import goals as G
+from peenflow.validation import readings as rd
+from peenflow.validation import runs
+from peenflow.validation import single_impact as si
 
-DATA = json.loads((BENCH / "reference" / "hourglass.json").read_text())
-KIND = {key: kind for key, _, kind in bh.QUANTITIES}  # relative error, or a difference (restitution)
+DATA = runs.load("single_impact")
+KIND = {key: kind for key, _, kind in si.QUANTITIES}  # relative error, or a difference (restitution)
 
 # relative tolerances (restitution: absolute) at 25 um: the goal of issue 13 §1
 GOAL_25 = dict(dent_um=0.03, dent_radius_mm=0.03, sxx_peak_mpa=0.03, zero_depth_mm=0.03, crest_radius_mm=0.05,
@@ -34,12 +30,12 @@ GOAL_50 = dict(dent_um=0.08, dent_radius_mm=0.08, sxx_peak_mpa=0.08, zero_depth_
 # where the physical element misses the goal: (case, h um, quantity) -> the measured |error| + 0.5 %
 # rounded up to whole per cent (restitution: absolute; hg_over_int: the ratio itself); BENCHMARKS.md 4c.
 # Measured 2026-12-01 with the surface line interpolated by a makima spline and the sigma_xx column
-# centred on the dent (bench_hourglass.py docstring); every entry is at or below the one it replaces.
+# centred on the dent (peenflow/validation/readings.py); every entry is at or below the one it replaces.
 # Crest position and height and the 25 m/s dent's edge are near the sampling limit of a 25 um
 # surface (test_surface_metric_on_a_coarser_sampling_of_the_same_line); the sigma_xx peak under the
 # 45 deg dent converges slowly (+14 / +5 % at 25 / 12.5 um, order ~0.6).
 # Since 2026-12-02 sigma_xx(z) is read on the curve recovered from the layer means (peak, its depth,
-# zero crossing, profile RMS; bench_hourglass.profile_curve): the 45 deg entries are those of that
+# zero crossing, profile RMS; readings.profile_curve): the 45 deg entries are those of that
 # reading, and the profile RMS joins the checked quantities (goal 4 % at 25 um, 8 % at 50 um: now
 # met at 25 um on three of four cases, 1.2-3.9 %, where the straight lines between mid-depths read
 # 2.1-7.7 %). Read so, a perfect element seen through 25 um layers is within 1.9 % on the peak and
@@ -47,7 +43,7 @@ GOAL_50 = dict(dent_um=0.08, dent_radius_mm=0.08, sxx_peak_mpa=0.08, zero_depth_
 # element's: the 25 m/s zero crossing -4.8 % (-2.6 % read by straight lines) and peak +3.4 %
 # (+2.4 %), the 45 deg peak +14.4 % (+13.0 %); at 50 um the entries moved both ways.
 # Since 2026-12-02 (later) the dent depth is read between nodes on the surface spline
-# (bench_hourglass.dent_bottom; within 0.9 % on a 25 um sampling of the converged lines): the 45 deg
+# (readings.dent_bottom; within 0.9 % on a 25 um sampling of the converged lines): the 45 deg
 # dent's -3.5 % became -1.7 % (goal met, entry removed), the 25 m/s dent (deepest point on a node)
 # stays -4.5 %.
 MISSED = {
@@ -79,7 +75,7 @@ MISSED = {
 }
 
 
-# the shot aimed half an element off a node (bench_hourglass.py offsets; BENCHMARKS.md 4c, "Shots
+# the shot aimed half an element off a node (benchmarks/single_impact.py offsets; BENCHMARKS.md 4c, "Shots
 # between nodes"): the worst aim of the 25 m/s dent for its crest and rebound; its dent, read between
 # nodes, is as far off as aimed at a node (-4.3 %; the deepest node alone read -7.1 %)
 MISSED_BETWEEN_NODES = {
@@ -93,14 +89,14 @@ MISSED_BETWEEN_NODES = {
 
 
 def _check(case, h_um, goal, offset=0.0):
-    ref, _ = bh.reference(DATA, case)
-    assert ref, f"no reference for {case} in {bh.STORE}"
-    got = bh.run(case, "physical", h_um, offset)
+    ref, _ = si.reference(DATA, case)
+    assert ref, f"no reference for {case} in {runs.path('single_impact')}"
+    got = si.run(case, "physical", h_um, offset)
     missed = MISSED_BETWEEN_NODES if offset else MISSED
     errors = {}
     for key, tol in goal.items():
         tol = missed.get((case, h_um, key), tol)
-        err = bh.profile_rms(got, ref) if key == "profile_rms" else bh._error(got, ref, key, KIND[key])
+        err = rd.profile_rms(got, ref) if key == "profile_rms" else si.error(got, ref, key, KIND[key])
         errors[key] = err
         assert abs(err) <= tol, f"{case} at {h_um} um: {key} error {err:+.4g} (tolerance {tol:g})"
     return got, errors
@@ -131,7 +127,7 @@ def test_oblique_impacts_at_25um(case):
     assert got["hg_over_int"] <= MISSED.get((case, 25, "hg_over_int"), 0.05)
 
 
-@pytest.mark.parametrize("case", list(bh.CASES))
+@pytest.mark.parametrize("case", list(si.CASES))
 def test_impacts_at_50um(case):
     got, _ = _check(case, 50, GOAL_50)
     assert got["energy_error"] < 0.01
@@ -144,8 +140,8 @@ def test_surface_metric_on_a_coarser_sampling_of_the_same_line():
     dent edge within 3.5 um on average (the straight-line rule read it 3.6-6.2 um too far out), the
     crest within 9 um (4-8 % of its radius, so a 25 um surface cannot show the 5 % goal on every
     case whatever the element)."""
-    rows = bh.sampling_bias(DATA, step=4)
-    assert {r["run"].split("/")[0] for r in rows} == set(bh.CASES)
+    rows = rd.sampling_bias(DATA, step=4)
+    assert {r["run"].split("/")[0] for r in rows} == set(si.CASES)
     for r in rows:
         assert abs(r["dent_radius_bias_um"]) <= 3.5, r
         assert r["dent_radius_worst_um"] <= 7.5, r
@@ -154,7 +150,7 @@ def test_surface_metric_on_a_coarser_sampling_of_the_same_line():
 
 
 def test_dent_depth_read_between_nodes_on_a_coarser_sampling_of_the_same_line():
-    """The dent depth reading (bench_hourglass.dent_bottom), not the element: each stored 6.25 um
+    """The dent depth reading (readings.dent_bottom), not the element: each stored 6.25 um
     line, whole (a quarter model's mirrored about its axis), taken at every 4th node from each of the
     4 offsets -- a 25 um grid with the dent bottom on a node, or 1/4, 1/2, 3/4 of an element off.
     Read on the surface spline between nodes the depth is within 1 % of the full line's at every
@@ -163,15 +159,15 @@ def test_dent_depth_read_between_nodes_on_a_coarser_sampling_of_the_same_line():
     which the old reading charged the element with."""
     import numpy as np
 
-    rows = bh.sampling_bias(DATA, step=4)
-    assert {r["run"].split("/")[0] for r in rows} == set(bh.CASES)
+    rows = rd.sampling_bias(DATA, step=4)
+    assert {r["run"].split("/")[0] for r in rows} == set(si.CASES)
     for r in rows:
         assert -0.01 <= r["dent_worst"] <= r["dent_bias"] <= 0.0, r
     v = DATA["sae-25-90/physical/6.25"]
-    x, u = bh._whole_line(np.array(v["surface_x_mm"]) * 1e-3, np.array(v["surface_uz_um"]) * 1e-6)
+    x, u = rd.whole_line(np.array(v["surface_x_mm"]) * 1e-3, np.array(v["surface_uz_um"]) * 1e-6)
     node_only = min(u[o::4].max() / u.max() - 1.0 for o in range(4))
     assert node_only < -0.03
-    assert bh.dent_bottom(x, u) == pytest.approx(u.max(), rel=1e-3)  # on the full line: its deepest node
+    assert rd.dent_bottom(x, u) == pytest.approx(u.max(), rel=1e-3)  # on the full line: its deepest node
 
 
 def test_profile_reading_on_coarser_layers_of_the_same_profile():
@@ -181,8 +177,8 @@ def test_profile_reading_on_coarser_layers_of_the_same_profile():
     the peak) of the full profile on every case, below the 4 % goal (measured 0.3-2.7 %); joined
     by straight lines between mid-depths it was 2.5-7.8 % off, at least twice as far, so that
     reading charged the element with most of its 25 um profile error (BENCHMARKS.md 4c)."""
-    rows = bh.profile_sampling_bias(DATA, step=4)
-    assert {r["run"].split("/")[0] for r in rows} == set(bh.CASES)
+    rows = rd.profile_sampling_bias(DATA, step=4)
+    assert {r["run"].split("/")[0] for r in rows} == set(si.CASES)
     for r in rows:
         assert r["recovered"] <= 0.03, r
         assert r["lines"] >= 2.0 * r["recovered"], r
@@ -197,14 +193,14 @@ def test_goals_below_the_resolution_of_the_mesh():
     at 25 um the crest radius >= 5 % on three of the four (6.0-8.7 %; 55 m/s normal 4.3 %), while the
     dent depth, sigma_xx peak and zero crossing are readable to <= 2 % at 25 um: those goals are the
     element's to meet."""
-    lim25 = {c: bh.resolution_limit(DATA[f"{c}/physical/6.25"], 4) for c in bh.CASES}
-    lim50 = {c: bh.resolution_limit(DATA[f"{c}/physical/6.25"], 8) for c in bh.CASES}
+    lim25 = {c: rd.resolution_limit(DATA[f"{c}/physical/6.25"], 4) for c in si.CASES}
+    lim50 = {c: rd.resolution_limit(DATA[f"{c}/physical/6.25"], 8) for c in si.CASES}
     for c in ("sae-25-90", "sae-55-90", "sae-55-45"):
         assert lim50[c]["dent_radius_mm"][0] >= GOAL_50["dent_radius_mm"], (c, lim50[c])
-    for c in bh.CASES:
+    for c in si.CASES:
         for key in ("crest_radius_mm", "crest_height_um"):  # the issue's 8 % (GOAL_50 leaves the crest out)
-            assert lim50[c][key][0] >= bh.GOALS[50.0][key], (c, key, lim50[c][key])
+            assert lim50[c][key][0] >= G.GOALS[50.0][key], (c, key, lim50[c][key])
         for key in ("dent_um", "sxx_peak_mpa", "zero_depth_mm"):
             assert lim25[c][key][0] <= 0.02, (c, key, lim25[c][key])
         assert lim25[c]["profile_rms"][0] <= 0.03, (c, lim25[c]["profile_rms"])
-    assert sum(lim25[c]["crest_radius_mm"][0] >= GOAL_25["crest_radius_mm"] for c in bh.CASES) == 3, lim25
+    assert sum(lim25[c]["crest_radius_mm"][0] >= GOAL_25["crest_radius_mm"] for c in si.CASES) == 3, lim25

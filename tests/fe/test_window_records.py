@@ -24,7 +24,7 @@ def normal_shot(v):
 
 
 def small_box(h=25e-6):
-    """The stability sweep's box (benchmarks/bench_stability.py)."""
+    """The stability sweep's box (benchmarks/stability.py)."""
     return Target(graded_box(0.6e-3, 0.6e-3, h, fine_half_width=max(0.15e-3, 4 * h), fine_depth=max(0.1e-3, 3 * h)))
 
 

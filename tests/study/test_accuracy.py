@@ -2,12 +2,12 @@
 measured ones of BENCHMARKS.md 4c, it says when a size was not measured, and results and the
 headline carry it."""
 
-import json
 import re
 from pathlib import Path
 
 from peenflow.study import load_study
 from peenflow.study.accuracy import SINGLE_IMPACT, STUDY_LEVEL, statement
+from peenflow.validation import runs
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -57,14 +57,11 @@ def test_a_measured_size_states_its_error_and_an_unmeasured_one_says_so(tmp_path
 
 
 def test_the_study_level_numbers_are_the_measured_ones():
-    """STUDY_LEVEL equals what benchmarks/reference/study_level.json gives by the benchmark's own rule
-    (per point, Richardson on the three finest levels if monotone with order in [0.5, 4], else the
-    finest level; the 12A velocity by the target_velocity stage's PCHIP inverse), to the 0.1 % it is
-    rounded to."""
-    import sys
-
-    sys.path.insert(0, str(REPO / "benchmarks"))
-    from bench_presets import study_level_errors
+    """STUDY_LEVEL equals what the reference levels (peenflow/validation/data/study_level.json) give by
+    the benchmark's own rule (per point, Richardson on the three finest levels if monotone with order
+    in [0.5, 4], else the finest level; the 12A velocity by the target_velocity stage's PCHIP inverse),
+    to the 0.1 % it is rounded to."""
+    from peenflow.validation.study_level import study_level_errors
 
     measured = study_level_errors()
     for h, (lo, hi, v12a) in STUDY_LEVEL.items():
@@ -74,11 +71,8 @@ def test_the_study_level_numbers_are_the_measured_ones():
 
 
 def test_the_12a_velocity_inverts_the_curve_the_stage_uses():
-    """bench_presets.velocity_12a on a straight control curve gives the analytic velocity for 0.30 mm."""
-    import sys
-
-    sys.path.insert(0, str(REPO / "benchmarks"))
-    from bench_presets import velocity_12a
+    """study_level.velocity_12a on a straight control curve gives the analytic velocity for 0.30 mm."""
+    from peenflow.validation.study_level import velocity_12a
 
     # I = 0.2 mm + 0.01 mm per m/s above 20 m/s: 0.30 mm at 30 m/s (PCHIP of collinear points is the line)
     assert abs(velocity_12a({25.0: 0.25, 30.0: 0.30, 35.0: 0.35}) - 30.0) < 1e-9
@@ -86,13 +80,11 @@ def test_the_12a_velocity_inverts_the_curve_the_stage_uses():
 
 
 def test_two_level_extrapolation_recovers_an_exact_power_law():
-    """bench_presets' paired two-level extrapolation: on levels that follow I(h) = I_inf - c h^p exactly
-    (the same p at every point), the leave-one-out order is p and the 40 / 25 um extrapolation is
-    I_inf, so its intensity and 12A-velocity errors against the Richardson references are zero."""
-    import sys
-
-    sys.path.insert(0, str(REPO / "benchmarks"))
-    from bench_presets import CURVE, STRIP_POINTS, study_level_errors
+    """The paired two-level extrapolation (peenflow.validation.study_level): on levels that follow
+    I(h) = I_inf - c h^p exactly (the same p at every point), the leave-one-out order is p and the
+    40 / 25 um extrapolation is I_inf, so its intensity and 12A-velocity errors against the
+    Richardson references are zero."""
+    from peenflow.validation.study_level import CURVE, STRIP_POINTS, study_level_errors
 
     p, c = 1.7, 2e-5
     limits = {"strip_90_55": 0.47, "strip_67_25": 0.29, "strip_67_30": 0.33, "strip_67_35": 0.36}
@@ -121,19 +113,17 @@ def test_the_extrapolated_numbers_and_the_order_are_the_measured_ones():
     """STUDY_LEVEL_EXTRAPOLATED and INTENSITY_ORDER equal what the reference levels give by the
     benchmark's rule (the studies' own formula, each point with the other points' mean order), to the
     0.1 % and 0.01 they are rounded to."""
-    import sys
-
-    sys.path.insert(0, str(REPO / "benchmarks"))
-    from bench_presets import STRIP_POINTS, _levels, _two_level, intensity_order, study_level_errors
+    from peenflow.validation.study_level import (STRIP_POINTS, intensity_order, point_levels, study_level_errors,
+                                                 two_level)
 
     from peenflow.study.accuracy import INTENSITY_ORDER, STUDY_LEVEL_EXTRAPOLATED
 
-    data = json.loads((REPO / "benchmarks" / "reference" / "study_level.json").read_text())
-    strips = {p: _levels(data, p) for p in STRIP_POINTS}
+    data = runs.load("study_level")
+    strips = {p: point_levels(data, p) for p in STRIP_POINTS}
     assert round(intensity_order(strips), 2) == INTENSITY_ORDER
     ref = study_level_errors(data)["reference"]
     for (hc, hf), (lo, hi, v12a) in STUDY_LEVEL_EXTRAPOLATED.items():
-        row = _two_level(strips, ref["intensity_mm"], ref["velocity_12a_m_s"], hc, hf)
+        row = two_level(strips, ref["intensity_mm"], ref["velocity_12a_m_s"], hc, hf)
         got = (round(row["intensity_pct"][0], 1), round(row["intensity_pct"][1], 1), round(row["velocity_12a_pct"], 1))
         assert got == (lo, hi, v12a), (hc, hf, row)
 
@@ -164,15 +154,12 @@ def test_an_extrapolating_study_states_the_extrapolation_s_error(tmp_path):
 
 
 def test_the_target_numbers_are_the_measured_ones():
-    """N_F_LIMIT, DENT_LEVEL_NF and TARGET_PROFILE equal what bench_presets computes from
-    study_level.json (the dent levels' first-order N_f limit; the target's first-sequence profile
+    """N_F_LIMIT, DENT_LEVEL_NF and TARGET_PROFILE equal what peenflow.validation.study_level computes
+    from the reference levels (the dent levels' first-order N_f limit; the target's first-sequence profile
     against the converged one: the 0.9 mm REV's Richardson peak and its 12.5 um level), to the 0.1 %
     they are rounded to; studies state them, a study with
     fidelity.dent_element_size_um its dent's N_f error."""
-    import sys
-
-    sys.path.insert(0, str(REPO / "benchmarks"))
-    from bench_presets import n_f_reference, target_errors, target_reference
+    from peenflow.validation.study_level import n_f_reference, target_errors, target_reference
 
     from peenflow.study.accuracy import (DENT_CORE_LEVEL_NF, DENT_LEVEL_NF, N_F_LIMIT, TARGET_PROFILE,
                                          TARGET_PROFILE_PEAK_MPA)

@@ -9,11 +9,11 @@ KernelInstabilityError's status; and then the worst energy error among the
 cases that finished. A finished case with an energy error of more than a
 few % would be a silent bad result: the table shows whether there is one.
 
-    PYTHONPATH=. python benchmarks/bench_stability.py            # full sweep (~5 min on one core)
-    PYTHONPATH=. python benchmarks/bench_stability.py quick      # 18 cases (1, 55, 200 m/s)
-    PYTHONPATH=. python benchmarks/bench_stability.py slow       # 1, 2, 5 m/s, SAE 1070 and Al 7075, 100-25 um
-    PYTHONPATH=. python benchmarks/bench_stability.py dense      # long sequences at the largest allowed
-                                                                 # coverage on the micro REV (item 11)
+    python benchmarks/stability.py            # full sweep (~5 min on one core)
+    python benchmarks/stability.py quick      # 18 cases (1, 55, 200 m/s)
+    python benchmarks/stability.py slow       # 1, 2, 5 m/s, SAE 1070 and Al 7075, 100-25 um
+    python benchmarks/stability.py dense      # long sequences at the largest allowed coverage on the
+                                              # micro REV (item 11)
 
 Every case runs with the kernel's window minimum (``Options.window_min_elements``,
 ``window_min_wave``).
@@ -21,22 +21,17 @@ Every case runs with the kernel's window minimum (``Options.window_min_elements`
 
 from __future__ import annotations
 
+import argparse
 import itertools
-import os
-import sys
 import time
 
-import numpy as np
-
-sys.path.insert(0, os.path.dirname(__file__))
-from bench_kernel import R, SAE1070, loadavg  # noqa: E402
-
-from peenflow.fe.impact import Options, run_impacts  # noqa: E402
-from peenflow.fe.johnson_cook import Material  # noqa: E402
-from peenflow.fe.mesh import graded_box  # noqa: E402
-from peenflow.fe.model import Target  # noqa: E402
-from peenflow.fe.safety import KernelInstabilityError, status_label  # noqa: E402
-from peenflow.fe.shots import Shots  # noqa: E402
+from peenflow.fe.impact import Options, run_impacts
+from peenflow.fe.johnson_cook import Material
+from peenflow.fe.mesh import graded_box
+from peenflow.fe.model import Target
+from peenflow.fe.safety import KernelInstabilityError, status_label
+from peenflow.fe.shots import Shots
+from peenflow.validation.kernel_cases import R, SAE1070, loadavg
 
 
 
@@ -145,7 +140,10 @@ def slow() -> None:
 
 
 if __name__ == "__main__":
-    mode = sys.argv[1] if len(sys.argv) > 1 else ""
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("mode", nargs="?", default="", choices=("", "quick", "slow", "dense"),
+                    help="quick: 18 cases; slow: 1-5 m/s; dense: long sequences (default: the full sweep)")
+    mode = ap.parse_args().mode
     if mode == "slow":
         slow()
     elif mode == "dense":

@@ -2,11 +2,11 @@
 
 Usage (from the repository root)::
 
-    PYTHONPATH=. python benchmarks/bench_periodic.py [n_shots] [seeds...]     # default 40 shots, seeds 1-6
+    python benchmarks/periodic.py [n_shots] [seeds...]     # default 40 shots, seeds 1-6
 
 Block: ``SIDE x SIDE x 1.29 mm`` (the strip REV's thickness), 50 um
 elements laterally (uniform) and down to 0.3 mm, graded (1.2) below; fixed
-bottom. SAE 1070 (as benchmarks/bench_kernel.py), S230 (R = 0.29 mm) at
+bottom. SAE 1070 (peenflow.testing, as the kernel benchmarks), S230 (R = 0.29 mm) at
 55 m/s, normal, landing uniformly over the whole top face
 (:func:`peenflow.methods.shot_stream`, the REV tasks' stream). Default
 options (window 4 contact radii, held faces, static relaxation), 1 thread.
@@ -27,7 +27,7 @@ face is a mirror plane, the image shot is implied).
 
 from __future__ import annotations
 
-import sys
+import argparse
 import time
 
 import numpy as np
@@ -176,6 +176,8 @@ def main(n_shots: int = 40, seeds=(1, 2, 3, 4, 5, 6)) -> None:
 
 
 if __name__ == "__main__":
-    n = int(sys.argv[1]) if len(sys.argv) > 1 else 40
-    seeds = tuple(int(s) for s in sys.argv[2:]) or (1, 2, 3, 4, 5, 6)
-    main(n, seeds)
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("n_shots", type=int, nargs="?", default=40)
+    ap.add_argument("seeds", type=int, nargs="*", help="shot-stream seeds (default 1-6)")
+    a = ap.parse_args()
+    main(a.n_shots, tuple(a.seeds) or (1, 2, 3, 4, 5, 6))

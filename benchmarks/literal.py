@@ -4,7 +4,7 @@ Usage (from the repository root)::
 
     peenflow run studies/paper_literal.toml --workers 2 --threads 1 --until target_velocity
     peenflow run studies/paper_fast_extrapolated.toml --workers 2 --threads 1
-    PYTHONPATH=. python benchmarks/bench_literal.py
+    python benchmarks/literal.py
 
 The literal study peens the paper's strip REV (6D x 6D, symmetric lateral faces, 2D x 2D
 measuring region) through the paper's ladder N = 10 ... 480, fits eq. (10) to those rungs and
@@ -23,15 +23,14 @@ lowest points reaches it), the converged reference's (BENCHMARKS.md §9) and the
 
 from __future__ import annotations
 
-import sys
+import argparse
 from pathlib import Path
 
 import numpy as np
 
+from peenflow.validation.study_level import INTENSITY_12A_MM, stage_results, study_level_errors, velocity_12a
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "benchmarks"))
-from bench_presets import INTENSITY_12A_MM, study_level_errors, velocity_12a  # noqa: E402
-from bench_reference import _results  # noqa: E402
 
 LITERAL_25 = ROOT / "studies" / "paper_literal.toml"  # its coarse level is paper_literal_40um.toml
 OURS = ROOT / "studies" / "paper_fast_extrapolated.toml"
@@ -82,8 +81,8 @@ def _literal_table(lit) -> dict[str, dict[float, float]]:
 
 
 def main() -> None:
-    lit40, lit25, lit_ext = _results(LITERAL_25, "coarse_saturation", "saturation", "intensity_extrapolation")
-    ext, fine, coarse = _results(OURS, "intensity_extrapolation", "saturation", "coarse_saturation")
+    lit40, lit25, lit_ext = stage_results(LITERAL_25, "coarse_saturation", "saturation", "intensity_extrapolation")
+    ext, fine, coarse = stage_results(OURS, "intensity_extrapolation", "saturation", "coarse_saturation")
     tables = {"40 um": _literal_table(lit40), "25 um": _literal_table(lit25)}
     k = float(lit_ext.attrs["extrapolation_factor"])
     # the extrapolation of the mean-curve intensities (the study's own is paired per sequence, and a
@@ -120,4 +119,5 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args()
     main()

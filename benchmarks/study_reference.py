@@ -1,11 +1,11 @@
-"""Issue 10 §1: study-level references -- a strip point refined until its intensity and profile stop
-changing (prints its figures; not a test).
+"""Study-level references: a strip point, or the section 5 target, refined until its intensity and
+profile stop changing (prints its figures; not a test).
 
 Usage (from the repository root)::
 
-    PYTHONPATH=. python benchmarks/bench_reference.py run POINT LEVEL [LEVEL ...]
-    PYTHONPATH=. python benchmarks/bench_reference.py dent POINT H [H ...]
-    PYTHONPATH=. python benchmarks/bench_reference.py table [POINT]
+    python benchmarks/study_reference.py run POINT LEVEL [LEVEL ...]
+    python benchmarks/study_reference.py dent POINT H [H ...]
+    python benchmarks/study_reference.py table [POINT]
 
 A LEVEL is an element size in um (``25``), or an element size and a REV side in mm
 (``60@2.4``: the same point on a larger periodic REV, measured over its whole face:
@@ -29,27 +29,26 @@ N_c and the REV depth).  ``run`` writes a copy of the study with ``[fidelity]
 element_size_um = H`` per level into ``benchmarks/reference/store/<POINT>/``
 (git-ignored; the results store is there too, so a killed run resumes where it
 stopped, across sessions), runs ``peenflow run --until saturation`` on it with
-one worker and one thread, and appends the level's figures to
-``benchmarks/reference/study_level.json``: the intensity (eq. 11 on the
-sequence-mean curve) and per-sequence intensities, saturation points, arc
-height at every rung, the sigma_xx(z) profile of the measuring region (mean
-over sequences) at every rung with its surface value, peak, peak depth and
-zero crossing, the process CPU time of the run (``RUSAGE_CHILDREN``: the
-machine may be shared), and the kernel's code fingerprint.  Every level uses
-the same seeds, so the meshes see the same shot streams: differences between
-levels are paired, with little of the sequences' sampling noise in them.
+one worker and one thread, and stores the level's figures in the package's summary
+``peenflow/validation/data/study_level.json`` (:mod:`peenflow.validation.runs`): the intensity
+(eq. 11 on the sequence-mean curve) and per-sequence intensities, saturation points, the
+sigma_xx(z) profile figures of the measuring region (mean over sequences) at every rung (surface
+value, peak, peak depth, zero crossing), the process CPU time of the run (``RUSAGE_CHILDREN``:
+the machine may be shared), and the kernel's code fingerprint.  Every level uses the same seeds,
+so the meshes see the same shot streams: differences between levels are paired, with little of
+the sequences' sampling noise in them.
 
 ``table`` prints, per point, each level's figures and their difference from
 the finest level, and a Richardson extrapolation from the three finest
 levels where they converge monotonically with an observed order in [0.5, 4]
 (ratios of element sizes need not be equal: the order solves
 (f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p)).  Profiles are compared
-at the largest rung every level reached.
+at the largest rung every level reached.  The errors each element size gives a study:
+``benchmarks/presets.py``.
 """
 
 from __future__ import annotations
 
-import json
 import os
 import resource
 import subprocess
@@ -59,27 +58,14 @@ from pathlib import Path
 
 import numpy as np
 
+from peenflow.validation import runs
+from peenflow.validation.study_level import (dent_level_name, level_name, parse_dent_level, parse_level,
+                                             profile_figures, richardson, stage_results)
+
 ROOT = Path(__file__).resolve().parents[1]
 STUDIES = ROOT / "benchmarks" / "reference" / "studies"
 STORE = ROOT / "benchmarks" / "reference" / "store"
-OUT = ROOT / "benchmarks" / "reference" / "study_level.json"
 PROFILE_DEPTH_M = 0.5e-3
-
-
-def _parse_level(text: str) -> tuple[float, float | None, int | None, float | None]:
-    """``H[@SIDE][dHD][sN]`` -> (element size um, REV side mm or None, target sequences or None,
-    the target's dent element size um or None)."""
-    text, _, seqs = text.partition("s")
-    text, _, dent = text.partition("d")
-    h, _, side = text.partition("@")
-    return float(h), (float(side) if side else None), (int(seqs) if seqs else None), (float(dent) if dent else None)
-
-
-def _level_name(h_um: float, side_mm: float | None, sequences: int | None = None, dent_um: float | None = None) -> str:
-    name = f"{h_um:g}" if side_mm is None else f"{h_um:g}@{side_mm:g}"
-    if dent_um is not None:
-        name += f"d{dent_um:g}"
-    return name if sequences is None else f"{name}s{sequences}"
 
 
 def _level_study(point: str, h_um: float, side_mm: float | None = None, sequences: int | None = None,
@@ -101,82 +87,53 @@ def _level_study(point: str, h_um: float, side_mm: float | None = None, sequence
         lines.append(ln)
     d = STORE / point
     d.mkdir(parents=True, exist_ok=True)
-    path = d / f"h{_level_name(h_um, side_mm, sequences, dent_um)}.toml"
+    path = d / f"h{level_name(h_um, side_mm, sequences, dent_um)}.toml"
     new = "\n".join(lines) + "\n"
     if not path.exists() or path.read_text() != new:
         path.write_text(new)
     return path
 
 
-def profile_metrics(z_m: np.ndarray, s_pa: np.ndarray) -> dict:
-    """Surface value, peak (most compressive), its depth and the first zero crossing below it
-    (linear between layer centres) of a sigma_xx(z) profile (z m from the top, Pa)."""
-    k = int(np.argmin(s_pa))
-    zero = float("nan")
-    for i in range(k, len(s_pa) - 1):
-        if s_pa[i] < 0.0 <= s_pa[i + 1]:
-            zero = float(z_m[i] + (z_m[i + 1] - z_m[i]) * (-s_pa[i]) / (s_pa[i + 1] - s_pa[i]))
-            break
-    return {"surface_MPa": float(s_pa[0] / 1e6), "peak_MPa": float(s_pa[k] / 1e6),
-            "peak_depth_mm": float(z_m[k] * 1e3), "zero_depth_mm": zero * 1e3}
-
-
-def _results(study: Path, *stages: str):
-    """The finished results of ``stages`` of the level's study, from its store."""
-    from peenflow.api import load_study_graph
-    from peenflow.engine import DirectoryStore, stage_result
-
-    graph = load_study_graph(study)
-    store = DirectoryStore(study.parent / ".peenflow")
-    return [stage_result(graph, store, s) for s in stages]
-
 
 def _collect(study: Path) -> dict:
-    sat, runs, arc = _results(study, "saturation", "strip_runs", "arc_height")
+    """A strip level's figures from its study's store: the intensity and its sequences', the
+    saturation point, the profile figures at every rung all sequences reached, the code fingerprint."""
+    sat, strip = stage_results(study, "saturation", "strip_runs")
     sq = lambda a: np.asarray(a).squeeze()  # noqa: E731 - the point's length-1 sweep dims
-    z_edges = sq(runs.z_edge_m)
+    z_edges = sq(strip.z_edge_m)
     z_edges = z_edges.reshape(-1, z_edges.shape[-1])[0]
     zc = 0.5 * (z_edges[:-1] + z_edges[1:])
     depth = zc if zc[0] >= 0 else -zc
     if depth[0] > depth[-1]:
         depth = depth.max() - depth  # depth below the top face
-    sxx = runs.stress_xx_Pa.transpose(..., "sequence", "shots", "layer")
+    sxx = strip.stress_xx_Pa.transpose(..., "sequence", "shots", "layer")
     sxx = np.asarray(sxx).reshape(-1, sxx.shape[-2], sxx.shape[-1]) if sxx.ndim > 3 else np.asarray(sxx)
-    shots = [int(n) for n in np.asarray(runs.shots)]
+    shots = [int(n) for n in np.asarray(strip.shots)]
     mean = np.nanmean(sxx, axis=0)  # (shots, layer)
     order = np.argsort(depth)
-    profiles = {}
-    for k, n in enumerate(shots):
-        if np.all(np.isfinite(sxx[:, k])):  # every sequence reached this rung
-            prof = mean[k][order]
-            profiles[str(n)] = {**profile_metrics(depth[order], prof),
-                                "z_mm": (depth[order] * 1e3).round(6).tolist(),
-                                "sxx_MPa": (prof / 1e6).round(4).tolist()}
-    fp = runs.attrs.get("peenflow_source_hash") or runs.attrs.get("peenflow_code", "")  # covers the kernel
-    mm = 1e3  # the store is SI; this file's figures are in mm
+    profiles = {str(n): profile_figures(depth[order], mean[k][order])
+                for k, n in enumerate(shots) if np.all(np.isfinite(sxx[:, k]))}  # every sequence reached it
+    fp = strip.attrs.get("peenflow_source_hash") or strip.attrs.get("peenflow_code", "")  # covers the kernel
+    mm = 1e3  # the store is SI; the summary's figures are in mm
     return {
         "intensity_mm": float(sq(sat.intensity_m)) * mm,
         "intensity_extrapolated": int(sq(sat.intensity_extrapolated)),
         "saturation_shots": float(sq(sat.saturation_shots)),
         "sequence_intensity_mm": (np.atleast_1d(sq(sat.sequence_intensity_m)) * mm).tolist(),
-        "arc_height_mm": {str(n): (np.atleast_1d(sq(arc.arc_height_m.sel(shots=n))) * mm).tolist()
-                          for n in np.asarray(arc.shots).tolist()},
         "profiles": profiles,
         "code": str(fp),
-        "settings": str(runs.attrs.get("peenflow_fidelity", "")),
     }
 
 
 def _collect_target(study: Path) -> dict:
-    prof, cov, thick = _results(study, "residual_profile", "coverage_curve", "target_rev_thickness")
+    prof, cov, thick = stage_results(study, "residual_profile", "coverage_curve", "target_rev_thickness")
     sq = lambda a: float(np.asarray(a).squeeze())  # noqa: E731
     depth = np.asarray(prof.depth_m)
     order = np.argsort(depth)
     mean = np.asarray(prof.stress_xx_mean_Pa)[order]
     per_seq = np.asarray(prof.stress_xx_Pa.transpose("sequence", "layer"))[:, order]
-    entry = {**profile_metrics(depth[order], mean),
+    entry = {**profile_figures(depth[order], mean),
              "z_mm": (depth[order] * 1e3).round(6).tolist(),
-             "sxx_MPa": (mean / 1e6).round(4).tolist(),
              "sequence_sxx_MPa": (per_seq / 1e6).round(4).tolist(),
              "sequence_peak_MPa": [float(r.min() / 1e6) for r in per_seq],
              "peak_yy_MPa": sq(prof.peak_compressive_yy_Pa) / 1e6,
@@ -185,7 +142,6 @@ def _collect_target(study: Path) -> dict:
              "rev_thickness_mm": sq(thick.thickness_m) * 1e3}
     fp = prof.attrs.get("peenflow_source_hash") or prof.attrs.get("peenflow_code", "")
     entry["code"] = str(fp)
-    entry["settings"] = str(prof.attrs.get("peenflow_fidelity", ""))
     return entry
 
 
@@ -195,16 +151,6 @@ def _is_target(point: str) -> bool:
     return "[target]" in sections and "[almen]" not in sections
 
 
-def parse_dent_level(name: str) -> tuple[float, float | None]:
-    """(block element size um, core element size um or None) of a ``dent`` level: ``25`` or ``25c6.25``."""
-    block, _, core = name.partition("c")
-    return float(block), (float(core) if core else None)
-
-
-def dent_level_name(h_um: float, core_um: float | None) -> str:
-    """The name :func:`parse_dent_level` reads."""
-    return f"{h_um:g}" if core_um is None else f"{h_um:g}c{core_um:g}"
-
 
 def _commit() -> str:
     return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
@@ -212,18 +158,17 @@ def _commit() -> str:
 
 
 def _store(key: str, entry: dict) -> None:
-    """Write ``entry`` under ``key`` in the JSON, re-read first (another level may have finished
-    meanwhile), replaced atomically."""
-    data = json.loads(OUT.read_text()) if OUT.exists() else {}
-    data[key] = entry
-    tmp = OUT.with_suffix(".tmp")
-    tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
-    tmp.replace(OUT)
+    """Store ``entry`` under ``key`` in the summary (:func:`peenflow.validation.runs.update`)."""
+    runs.update("study_level", key, entry)
+
+
+def _load() -> dict:
+    return runs.load("study_level")
 
 
 def run(point: str, levels: list[str]) -> None:
     for level in levels:
-        h, side, seqs, dent = _parse_level(level)
+        h, side, seqs, dent = parse_level(level)
         study = _level_study(point, h, side, seqs, dent)
         t0, c0 = time.time(), resource.getrusage(resource.RUSAGE_CHILDREN)
         target = _is_target(point)
@@ -238,13 +183,13 @@ def run(point: str, levels: list[str]) -> None:
             print(f"level {level} did not finish (rc {proc.returncode}); run again to resume")
             return
         entry = _collect_target(study) if target else _collect(study)
-        key = f"{point}/{_level_name(h, side, seqs, dent)}"
-        prev = (json.loads(OUT.read_text()) if OUT.exists() else {}).get(key, {})
+        key = f"{point}/{level_name(h, side, seqs, dent)}"
+        prev = _load().get(key, {})
         # CPU of this call; a resumed level keeps the sum of its calls
         cpu = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)
         entry["cpu_s"] = prev.get("cpu_s", 0.0) + cpu if prev.get("code") == entry["code"] else cpu
         entry["wall_s"] = time.time() - t0
-        entry["command"] = f"PYTHONPATH=. python benchmarks/bench_reference.py run {point} {level}"
+        entry["command"] = f"python benchmarks/study_reference.py run {point} {level}"
         entry["rev_side_mm"] = side if side is not None else _template_side(point)
         entry["date"] = time.strftime("%Y-%m-%d")
         entry["commit"] = _commit()
@@ -264,35 +209,9 @@ def _template_side(point: str) -> float:
     return float("nan")
 
 
-def extrapolate(f_coarse, f_fine, h_coarse, h_fine, p):
-    """The limit of ``f(h) = f0 + c h^p`` through two levels: ``f_fine + (f_fine - f_coarse) h_fine^p /
-    (h_coarse^p - h_fine^p)`` (works on arrays): :func:`peenflow.methods.two_level_limit`, the formula
-    the studies' ``fidelity.extrapolate_intensity_from_um`` uses."""
-    from peenflow.methods import two_level_limit
-
-    return two_level_limit(f_coarse, f_fine, h_coarse, h_fine, p)
-
-
-def richardson(hs, fs, p_range=(0.5, 4.0)):
-    """(extrapolated value, order) from three levels h1 > h2 > h3, or (None, None) when not monotone
-    or the order is outside ``p_range``."""
-    (h1, h2, h3), (f1, f2, f3) = hs, fs
-    if not (f1 - f2) * (f2 - f3) > 0:
-        return None, None
-    target = (f1 - f2) / (f2 - f3)
-    g = lambda p: (h1**p - h2**p) / (h2**p - h3**p) - target  # noqa: E731 - increasing in p
-    lo, hi = p_range
-    if g(lo) * g(hi) > 0:
-        return None, None
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if g(lo) * g(mid) > 0 else (lo, mid)
-    p = 0.5 * (lo + hi)
-    return extrapolate(f2, f3, h2, h3, p), p
-
 
 def table(only: str | None = None) -> None:
-    data = json.loads(OUT.read_text()) if OUT.exists() else {}
+    data = _load()
     points = sorted({k.split("/")[0] for k in data if only in (None, k.split("/")[0])})
     for point in points:
         if "intensity_mm" not in next(v for k, v in data.items() if k.startswith(point + "/")):
@@ -316,7 +235,7 @@ def table(only: str | None = None) -> None:
                   f"{pm.get('peak_MPa', float('nan')):.0f} | {pm.get('peak_depth_mm', float('nan')):.3f} | "
                   f"{pm.get('zero_depth_mm', float('nan')):.3f} | {v['cpu_s']:.0f} | {v['code'][:12]} |")
         if sides:
-            print(f"\nREV side (periodic, whole face measured) at fixed element size; profile at N = T of each:")
+            print("\nREV side (periodic, whole face measured) at fixed element size; profile at N = T of each:")
             print("| level | side mm | intensity mm | per sequence | T shots | CPU s |")
             print("|---|---|---|---|---|---|")
             for name, v in [(f"{h:g}", v) for h, v in levels] + sides:
@@ -342,7 +261,7 @@ def table(only: str | None = None) -> None:
 
 
 def _target_table(point: str, data: dict) -> None:
-    named = sorted(((_parse_level(k.split("/")[1]), k.split("/")[1], v) for k, v in data.items()
+    named = sorted(((parse_level(k.split("/")[1]), k.split("/")[1], v) for k, v in data.items()
                     if k.startswith(point + "/") and k.count("/") == 1),
                    key=lambda t: (-(t[0][1] or 0.0), -t[0][0], -(t[0][3] or t[0][0])))
     def finest(name: str) -> float:  # "25c6.25": the 25 um block with a 6.25 um core
@@ -413,7 +332,7 @@ def dent(point: str, sizes: list[str]) -> None:
         if proc.returncode != 0:
             print(proc.stdout[-3000:], proc.stderr[-3000:], f"dent level {text} did not finish", flush=True)
             return
-        cov, ind, imp = _results(path, "coverage_curve", "target_indentation", "target_impact")
+        cov, ind, imp = stage_results(path, "coverage_curve", "target_indentation", "target_impact")
         sq = lambda a: float(np.asarray(a).squeeze())  # noqa: E731
         entry = {"full_coverage_shots": sq(cov.full_coverage_shots), "coverage_shots": sq(cov.coverage_shots_rounded),
                  "semi_axis_along_um": sq(ind.dent_semi_axis_along_m) * 1e6,
@@ -421,7 +340,7 @@ def dent(point: str, sizes: list[str]) -> None:
                  "dent_depth_um": sq(ind.dent_depth_m) * 1e6, "pileup_height_um": sq(ind.pileup_height_m) * 1e6,
                  "cpu_s": (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime),
                  "code": str(imp.attrs.get("peenflow_source_hash") or imp.attrs.get("peenflow_code", "")),
-                 "command": f"PYTHONPATH=. python benchmarks/bench_reference.py dent {point} {text}",
+                 "command": f"python benchmarks/study_reference.py dent {point} {text}",
                  "date": time.strftime("%Y-%m-%d"), "commit": _commit()}
         _store(f"{point}/dent/{name}", entry)
         print(f"{point} dent at {name} um: N_f {entry['full_coverage_shots']:.2f}, N_c {entry['coverage_shots']:.0f}, "
@@ -429,14 +348,29 @@ def dent(point: str, sizes: list[str]) -> None:
               f"CPU {entry['cpu_s']:.0f} s", flush=True)
 
 
-if __name__ == "__main__":
+def main(argv=None) -> None:
+    import argparse
+
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="mode", required=True)
+    p = sub.add_parser("run", help="run levels of a point up to its saturation / residual profile, stored")
+    p.add_argument("point", help="a study file stem under benchmarks/reference/studies/")
+    p.add_argument("levels", nargs="+", help="H[@SIDE][dHD][sN]")
+    p = sub.add_parser("dent", help="the target's single impact (dent, N_f, N_c) at element sizes, stored")
+    p.add_argument("point")
+    p.add_argument("sizes", nargs="+", help="H or HcC (a core of C um in the H um block)")
+    p = sub.add_parser("table", help="each point's levels and their Richardson limits")
+    p.add_argument("point", nargs="?")
+    a = ap.parse_args(argv)
     os.chdir(ROOT)
-    if len(sys.argv) >= 4 and sys.argv[1] == "run":
-        run(sys.argv[2], sys.argv[3:])
-    elif len(sys.argv) >= 4 and sys.argv[1] == "dent":
-        dent(sys.argv[2], sys.argv[3:])
-    elif len(sys.argv) >= 2 and sys.argv[1] == "table":
-        table(sys.argv[2] if len(sys.argv) > 2 else None)
+    if a.mode == "run":
+        run(a.point, a.levels)
+    elif a.mode == "dent":
+        dent(a.point, a.sizes)
     else:
-        print(__doc__)
-        sys.exit(2)
+        table(a.point)
+
+
+if __name__ == "__main__":
+    main()

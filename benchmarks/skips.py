@@ -2,8 +2,8 @@
 
 Usage (from the repository root)::
 
-    PYTHONPATH=. python benchmarks/bench_skips.py ladder STUDY [FIRST MAX]   # default FIRST 10, MAX 5120
-    PYTHONPATH=. python benchmarks/bench_skips.py sequences STUDY TOL_MM [N_MIN]
+    python benchmarks/skips.py ladder STUDY [FIRST MAX]   # default FIRST 10, MAX 5120
+    python benchmarks/skips.py sequences STUDY TOL_MM [N_MIN]
 
 ``ladder``: for every strip point (angle, velocity) and sequence of the study
 file, the strip REV run twice with the study's REV, fidelity and seeds: with
@@ -28,7 +28,7 @@ n against the mean of all N, beside the tolerance.
 
 from __future__ import annotations
 
-import sys
+import argparse
 import time
 
 import numpy as np
@@ -108,9 +108,17 @@ def sequences(path, tol_mm, n_min=2):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 3 or sys.argv[1] not in ("ladder", "sequences"):
-        raise SystemExit(__doc__)
-    if sys.argv[1] == "ladder":
-        ladder(sys.argv[2], *map(int, sys.argv[3:5]))
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    sub = ap.add_subparsers(dest="mode", required=True)
+    p = sub.add_parser("ladder", help="each strip point with its own rungs and with the self-extending ladder")
+    p.add_argument("study")
+    p.add_argument("first_max", type=int, nargs="*", help="FIRST MAX rungs of the ladder (default 10 5120)")
+    p = sub.add_parser("sequences", help="replay the adaptive-sequences rule on a finished study (no compute)")
+    p.add_argument("study")
+    p.add_argument("tol_mm", type=float)
+    p.add_argument("n_min", type=int, nargs="?")
+    a = ap.parse_args()
+    if a.mode == "ladder":
+        ladder(a.study, *a.first_max[:2])
     else:
-        sequences(sys.argv[2], float(sys.argv[3]), *map(int, sys.argv[4:5]))
+        sequences(a.study, a.tol_mm, *([] if a.n_min is None else [a.n_min]))

@@ -7,28 +7,26 @@ relaxation.  Prints the shots whose energy-balance error exceeds 5 % of the
 impact energy, with their peak hourglass energy, for the default options and
 for variations given as ``key=value`` Options overrides:
 
-    PYTHONPATH=. python benchmarks/bench_dense_sequence.py 50e-6 80
-    PYTHONPATH=. python benchmarks/bench_dense_sequence.py 50e-6 80 hourglass_plastic_floor=1.0 dt_safety=0.4
+    python benchmarks/dense_sequence.py 50e-6 80
+    python benchmarks/dense_sequence.py 50e-6 80 hourglass_plastic_floor=1.0 dt_safety=0.4
 
 Findings in BENCHMARKS.md section 2 ("Dense sequences").
 """
 
 from __future__ import annotations
 
-import os
-import sys
+import argparse
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(__file__))
-from bench_kernel import R, SAE1070, loadavg  # noqa: E402
 
-from peenflow.fe.impact import Options, run_impacts  # noqa: E402
-from peenflow.fe.johnson_cook import Material  # noqa: E402
-from peenflow.fe.mesh import BoxMesh, graded_axis  # noqa: E402
-from peenflow.fe.model import Target  # noqa: E402
-from peenflow.fe.shots import Shots  # noqa: E402
+from peenflow.fe.impact import Options, run_impacts
+from peenflow.fe.johnson_cook import Material
+from peenflow.fe.mesh import BoxMesh, graded_axis
+from peenflow.fe.model import Target
+from peenflow.fe.shots import Shots
+from peenflow.validation.kernel_cases import R, SAE1070, loadavg
 
 
 def dense_sequence(h: float, n: int, **options) -> None:
@@ -51,8 +49,13 @@ def dense_sequence(h: float, n: int, **options) -> None:
 
 
 if __name__ == "__main__":
-    h, n = float(sys.argv[1]), int(sys.argv[2])
-    overrides = [(k, float(v)) for k, v in (arg.split("=") for arg in sys.argv[3:])]
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("h", type=float, help="element size m, e.g. 50e-6")
+    ap.add_argument("n", type=int, help="shots")
+    ap.add_argument("overrides", nargs="*", help="Options overrides KEY=VALUE, one row each")
+    a = ap.parse_args()
+    h, n = a.h, a.n
+    overrides = [(k, float(v)) for k, v in (arg.split("=") for arg in a.overrides)]
     print("| h um | shots | options | shots with energy error > 0.05: error (peak hourglass / impact energy) "
           "| max error | max eps_p | max dent um | wall s | load |")
     print("|---|---|---|---|---|---|---|---|---|")

@@ -4,7 +4,7 @@ converged references (prints its figures; not a test).
 Usage (from the repository root)::
 
     peenflow run studies/paper_fast_extrapolated.toml --workers 2 --threads 1
-    PYTHONPATH=. python benchmarks/bench_whole_paper.py
+    python benchmarks/whole_paper.py
 
 The study runs every strip point at 40 and 25 um with the same seeds and extrapolates each
 intensity (stage ``intensity_extrapolation``, fidelity.extrapolate_intensity_from_um); this
@@ -19,15 +19,14 @@ The study's seeds differ from the references', so these errors include the seque
 
 from __future__ import annotations
 
-import sys
+import argparse
 from pathlib import Path
 
 import numpy as np
 
+from peenflow.validation.study_level import stage_results, study_level_errors, velocity_12a
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "benchmarks"))
-from bench_presets import study_level_errors, velocity_12a  # noqa: E402
-from bench_reference import _results  # noqa: E402
 
 STUDY = ROOT / "studies" / "paper_fast_extrapolated.toml"
 #: (angle deg, velocity m/s) of the reference points the study's grid contains
@@ -35,7 +34,7 @@ REFERENCE_POINTS = {(67.5, 25.0): "strip_67_25", (67.5, 35.0): "strip_67_35", (9
 
 
 def main() -> None:
-    ext, fine, coarse = _results(STUDY, "intensity_extrapolation", "saturation", "coarse_saturation")
+    ext, fine, coarse = stage_results(STUDY, "intensity_extrapolation", "saturation", "coarse_saturation")
     dims = ("angle_deg", "velocity_m_s")
     angles = np.asarray(ext.angle_deg, float)
     vel = np.asarray(ext.velocity_m_s, float)
@@ -73,4 +72,5 @@ def main() -> None:
 
 
 if __name__ == "__main__":
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0]).parse_args()
     main()
