@@ -223,8 +223,8 @@ def test_a_core_study_states_the_core_s_error(tmp_path):
     dent = statement(fid, element_size_um=6.25, level="dent")
     assert "25 um elements, a core of 6.25 um elements under the impact" in dent["peenflow_fidelity"], dent
     d, peak, *_ = SINGLE_IMPACT_CORE[(25.0, 6.25)]
-    assert (f"single impact with a core of 6.25 um elements in a 25 um block (worst of 4 cases, BENCHMARKS.md "
-            f"section 4c): dent depth <= {d:g} %, sigma_xx peak <= {peak:g} %") in dent["peenflow_fidelity_error"]
+    assert (f"single impact with a core of 6.25 um elements in a 25 um block (worst of 4 cases, docs/validation.md, "
+            f"single impact): dent depth <= {d:g} %, sigma_xx peak <= {peak:g} %") in dent["peenflow_fidelity_error"]
 
 
 def test_the_core_numbers_are_the_measured_ones():
@@ -256,5 +256,5 @@ def test_a_50_um_study_with_a_dent_core_states_the_core_s_errors(tmp_path):
     assert f"N_f {DENT_LEVEL_NF[50.0]:+.1f} %" not in err, err
     dent = statement(fid, element_size_um=6.25, level="dent")
     d, peak, *_ = SINGLE_IMPACT_CORE[(50.0, 6.25)]
-    assert (f"single impact with a core of 6.25 um elements in a 50 um block (worst of 4 cases, BENCHMARKS.md "
-            f"section 4c): dent depth <= {d:g} %, sigma_xx peak <= {peak:g} %") in dent["peenflow_fidelity_error"]
+    assert (f"single impact with a core of 6.25 um elements in a 50 um block (worst of 4 cases, docs/validation.md, "
+            f"single impact): dent depth <= {d:g} %, sigma_xx peak <= {peak:g} %") in dent["peenflow_fidelity_error"]
