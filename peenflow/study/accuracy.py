@@ -294,7 +294,7 @@ def markdown(data: dict | None = None) -> str:
             "Each run's headline numbers beside the paper's (**bold**: the figures a study exists to give). "
             "Fidelity and cost are those of the run that made them, on a 2-core machine.", ""]
     for st in d["studies"]:
-        out += [f"### {st['title']} (`{st['study']}`)", "",
+        out += [f"### {st['title']}", "", f"Study: `{st['study']}`  ",
                 f"Command: `{st['command']}`  ", f"Fidelity: {st['fidelity']}  ", f"Cost: {st['cost']}", ""]
         out += _table(["quantity", "paper", "peenflow"], [[r["quantity"], r["paper"], r["peenflow"]] for r in st["rows"]])
         out += [""] + ([st["notes"].strip(), ""] if "notes" in st else [])
