@@ -1,113 +1,101 @@
 """What a fidelity is measured to cost in accuracy: the statement every result of a study carries.
 
-Single impact (BENCHMARKS.md section 4c, ``benchmarks/bench_hourglass.py offsets``):
-the worst error over the four cases there -- S230 on SAE 1070 at 25 and 55 m/s
-normal and at 55 m/s, 45 deg; on Al 7075-T73 at 47 m/s, 65 deg -- and over four
-aims of the shot on the element grid (on a node, 1/4, 1/2 and 3/4 of an element
-off it along the plane of incidence: in a REV shots land anywhere), of the
-kernel's default element (physical hourglass stabilisation) at each element
-size, against converged references (6.25 um, Richardson where the order is
-clean).  Dent depth, sigma_xx peak and zero-crossing depth in per cent of the
-reference, restitution as a difference, the sigma_xx(z) profile as its RMS
-over 0-0.3 mm in per cent of the reference peak; sigma_xx(z) read on the curve
+The figures are read from the one data file ``peenflow/study/data/results.toml`` (installed with
+the package), which also renders ``docs/results.md`` (``python -m peenflow.study.accuracy
+--markdown``; a test keeps the page equal to the rendering). How each was measured is in
+``docs/validation.md``:
+
+Single impact (``single_impact``: ``benchmarks/bench_hourglass.py offsets``): the worst error over
+four cases -- S230 on SAE 1070 at 25 and 55 m/s normal and at 55 m/s, 45 deg; on Al 7075-T73 at
+47 m/s, 65 deg -- and over four aims of the shot on the element grid (on a node, 1/4, 1/2 and 3/4
+of an element off it along the plane of incidence: in a REV shots land anywhere), of the kernel's
+default element (physical hourglass stabilisation) at each element size, against converged
+references (6.25 um, Richardson where the order is clean).  Dent depth, sigma_xx peak and
+zero-crossing depth in per cent of the reference, restitution as a difference, the sigma_xx(z)
+profile as its RMS over 0-0.3 mm in per cent of the reference peak; sigma_xx(z) read on the curve
 recovered from the layer means (``DepthProfile.point_values``).
 
-Study level (BENCHMARKS.md section 9, ``benchmarks/bench_presets.py`` on the levels of
-``benchmarks/bench_reference.py``): the Almen intensity of four strip points (90 deg /
-55 m/s; 67.5 deg at 25, 30 and 35 m/s; periodic 1.2 mm REV, standard preset values,
-only the element size varied, paired shot streams) and the velocity for 12A on the
-67.5 deg control curve through them, against references: per point the Richardson
-extrapolation of the three finest levels (40 / 25 / 16 um) where they converge
-monotonically with an order in [0.5, 4], else the finest level; the 12A velocity
-from the reference intensities by the same PCHIP inverse the ``target_velocity``
-stage uses.  A statement of what was measured, not a bound.  The section 5 target: N_f against
-the first-order limit of its dent levels (the dent ellipse is bounded by the pile-up crest, found
-at node resolution; ``fidelity.dent_element_size_um`` takes it from a finer single impact), and
-the residual-stress profile against the converged one: the 0.9 mm REV at a fixed N_c refined to
+Study level (``study_level``: ``benchmarks/bench_presets.py`` on the levels of
+``benchmarks/bench_reference.py``): the Almen intensity of four strip points (90 deg / 55 m/s;
+67.5 deg at 25, 30 and 35 m/s; periodic 1.2 mm REV, standard preset values, only the element size
+varied, paired shot streams) and the velocity for 12A on the 67.5 deg control curve through them,
+against references: per point the Richardson extrapolation of the three finest levels (40 / 25 /
+16 um) where they converge monotonically with an order in [0.5, 4], else the finest level; the 12A
+velocity from the reference intensities by the same PCHIP inverse the ``target_velocity`` stage
+uses.  A statement of what was measured, not a bound.  The section 5 target: N_f against the
+first-order limit of its dent levels (the dent ellipse is bounded by the pile-up crest, found at
+node resolution; ``fidelity.dent_element_size_um`` takes it from a finer single impact), and the
+residual-stress profile against the converged one: the 0.9 mm REV at a fixed N_c refined to
 12.5 um (its peak by Richardson over 25 / 16 / 12.5 um, order 3.0, a correction below the last
 change; its compressive depth and shape from 12.5 um). The REVs differ (1.2 mm against 0.9 mm), so
 the profile figures also hold one sequence's scatter against another (about 6 MPa on the peak).
 
-A statement is written on every result a study computes (the engine's
-``graph.result_attrs``: provenance, outside keys and content hashes), printed
-with the headline numbers and tabled in README.md.
+A statement is written on every result a study computes (the engine's ``graph.result_attrs``:
+outside keys and content hashes) and printed with the headline numbers.
 """
 
 from __future__ import annotations
 
+import sys
+import tomllib
+from pathlib import Path
+
 __all__ = ["SINGLE_IMPACT", "SINGLE_IMPACT_SOURCE", "STUDY_LEVEL", "STUDY_LEVEL_EXTRAPOLATED", "N_F_LIMIT", "DENT_LEVEL_NF", "DENT_CORE_LEVEL_NF",
            "SINGLE_IMPACT_CORE", "TARGET_PROFILE", "TARGET_PROFILE_PEAK_MPA",
-           "INTENSITY_ORDER", "STUDY_LEVEL_SOURCE", "single_impact_error", "study_level_error", "statement"]
+           "INTENSITY_ORDER", "STUDY_LEVEL_SOURCE", "DATA_FILE", "single_impact_error", "study_level_error", "statement",
+           "markdown"]
+
+#: the one data file of measured figures (this module's constants, and docs/results.md)
+DATA_FILE = Path(__file__).with_name("data") / "results.toml"
+_DATA = tomllib.loads(DATA_FILE.read_text(encoding="utf-8"))
+
+#: the single-impact errors' columns, in the order of the tuples below
+_ERRORS = ("dent_pct", "sxx_peak_pct", "zero_crossing_pct", "restitution", "profile_rms_pct")
 
 #: element size um -> worst error over the four cases and four aims: (dent %, sigma_xx peak %,
-#: zero crossing %, restitution, profile RMS %), BENCHMARKS.md section 4c
+#: zero crossing %, restitution, profile RMS %)
 SINGLE_IMPACT: dict[float, tuple[float, float, float, float, float]] = {
-    60.0: (16.6, 35.8, 10.4, 0.083, 19.3),
-    50.0: (12.8, 32.0, 14.2, 0.076, 17.3),
-    40.0: (9.4, 30.4, 9.5, 0.044, 15.0),
-    25.0: (4.7, 17.1, 4.8, 0.021, 7.7),
-    12.5: (1.3, 5.4, 0.6, 0.006, 2.8),
-}
+    r["element_size_um"]: tuple(r[k] for k in _ERRORS) for r in _DATA["single_impact"]["rows"]}
 #: (block element size um, core element size um) -> as SINGLE_IMPACT, for the block with the core a
-#: study puts under the impact (``fidelity.dent_refinement = "core"``; node-aimed, four cases),
-#: BENCHMARKS.md section 4c, "A finer core under the shot"
+#: study puts under the impact (``fidelity.dent_refinement = "core"``; node-aimed, four cases)
 SINGLE_IMPACT_CORE: dict[tuple[float, float], tuple[float, float, float, float, float]] = {
-    (25.0, 12.5): (1.2, 5.6, 0.7, 0.006, 3.0),
-    (25.0, 6.25): (0.4, 0.2, 0.3, 0.001, 0.4),
-    (50.0, 12.5): (1.3, 5.7, 1.0, 0.007, 3.0),
-    (50.0, 6.25): (0.4, 0.2, 0.4, 0.001, 0.6),
-}
-SINGLE_IMPACT_SOURCE = "BENCHMARKS.md section 4c"
+    (r["block_um"], r["core_um"]): tuple(r[k] for k in _ERRORS) for r in _DATA["single_impact_core"]["rows"]}
+SINGLE_IMPACT_SOURCE = _DATA["single_impact"]["source"]
 #: element size um -> (smallest, largest) intensity error in % over the four strip points, and the
-#: error in % of the velocity for 12A on the 67.5 deg curve, against their references (module
-#: docstring), BENCHMARKS.md section 9
+#: error in % of the velocity for 12A on the 67.5 deg curve, against their references (module docstring)
 STUDY_LEVEL: dict[float, tuple[float, float, float]] = {
-    60.0: (-13.0, -9.3, 28.6),
-    40.0: (-10.7, -4.5, 18.6),
-    25.0: (-4.5, 0.1, 7.6),
-}
-STUDY_LEVEL_SOURCE = "BENCHMARKS.md section 9"
+    r["element_size_um"]: (r["intensity_low_pct"], r["intensity_high_pct"], r["velocity_12a_pct"])
+    for r in _DATA["study_level"]["rows"]}
+STUDY_LEVEL_SOURCE = _DATA["study_level"]["source"]
 #: the section 5 target (Al 7075-T73, S230 at 30 m/s, 65 deg, 200 %): the limit of N_f at zero element
 #: size of the single impact whose dent gives it (first-order fit over the dent levels 16 ... 6.25 um;
-#: the pile-up crest that bounds the dent is found at node resolution), BENCHMARKS.md section 9
-N_F_LIMIT = 227.9
+#: the pile-up crest that bounds the dent is found at node resolution)
+N_F_LIMIT: float = _DATA["target_nf"]["limit"]
 #: element size um of the target's single impact -> the error of its N_f in % against N_F_LIMIT
-DENT_LEVEL_NF: dict[float, float] = {
-    60.0: -51.6, 50.0: -42.6, 40.0: -35.4, 25.0: -24.1, 16.0: -16.0, 12.5: -13.8, 10.0: -10.2, 8.0: -8.1, 6.25: -6.3,
-}
+DENT_LEVEL_NF: dict[float, float] = {r["dent_um"]: r["n_f_pct"] for r in _DATA["target_nf"]["rows"]}
 #: (block element size um, core element size um) -> as DENT_LEVEL_NF, the dent from the block with a
-#: core of that size under the impact (``fidelity.dent_refinement = "core"``), BENCHMARKS.md section 9
+#: core of that size under the impact (``fidelity.dent_refinement = "core"``)
 DENT_CORE_LEVEL_NF: dict[tuple[float, float], float] = {
-    (25.0, 12.5): -13.9, (25.0, 10.0): -10.1, (25.0, 8.0): -8.1, (25.0, 6.25): -6.2, (40.0, 6.25): -6.2,
-    (50.0, 12.5): -13.8, (50.0, 6.25): -6.3,
-}
+    (r["block_um"], r["core_um"]): r["n_f_pct"] for r in _DATA["target_nf_core"]["rows"]}
 #: (REV element size um, dent element size um) -> the target's profile on its first sequence (1.2 mm
 #: periodic REV) against the converged profile (the 0.9 mm REV refined 25 / 16 / 12.5 um at a fixed
-#: N_c: its peak by Richardson, -548.3 MPa, its compressive depth and shape from 12.5 um; the two REVs
-#: differ by one sequence's scatter, ~6 MPa on the peak), in %: (sigma_xx peak, compressive depth,
-#: profile RMS over 0-0.3 mm of the converged peak), BENCHMARKS.md section 9
-TARGET_PROFILE_PEAK_MPA = -548.3
+#: N_c: its peak by Richardson, TARGET_PROFILE_PEAK_MPA, its compressive depth and shape from 12.5 um;
+#: the two REVs differ by one sequence's scatter, ~6 MPa on the peak), in %: (sigma_xx peak,
+#: compressive depth, profile RMS over 0-0.3 mm of the converged peak)
+TARGET_PROFILE_PEAK_MPA: float = _DATA["target_profile"]["peak_MPa"]
 TARGET_PROFILE: dict[tuple[float, float], tuple[float, float, float]] = {
-    (60.0, 60.0): (-18.5, 0.7, 15.6),
-    (50.0, 6.25): (-8.1, 2.9, 7.6),
-    (40.0, 40.0): (-11.1, -1.0, 7.9),
-    (40.0, 16.0): (-8.8, 0.3, 6.2),
-    (40.0, 6.25): (-9.2, 0.5, 6.7),
-    (25.0, 25.0): (-6.5, -0.0, 4.2),
-    (25.0, 16.0): (-6.4, 0.9, 3.8),
-    (25.0, 6.25): (-4.6, 1.1, 2.7),
-    (16.0, 16.0): (-3.2, 0.8, 1.5),
-}
+    (r["rev_um"], r["dent_um"]): (r["sxx_peak_pct"], r["compressive_depth_pct"], r["profile_rms_pct"])
+    for r in _DATA["target_profile"]["rows"]}
 #: the order p of the intensities' convergence, I(h) = I0 + c h^p: the mean Richardson order of the
-#: strip references from 40 / 25 / 16 um (1.99, 1.84, 1.72; BENCHMARKS.md section 9), the default of
+#: strip references from 40 / 25 / 16 um (1.99, 1.84, 1.72), the default of
 #: ``fidelity.intensity_extrapolation_order``
-INTENSITY_ORDER = 1.85
+INTENSITY_ORDER: float = _DATA["study_level_extrapolated"]["order"]
 #: (coarse um, fine um) -> as STUDY_LEVEL, for intensities extrapolated from the two levels by the
 #: studies' rule (``fidelity.extrapolate_intensity_from_um``; each point with the mean order of the
-#: *other* points: cross-validated), BENCHMARKS.md section 9
+#: *other* points: cross-validated)
 STUDY_LEVEL_EXTRAPOLATED: dict[tuple[float, float], tuple[float, float, float]] = {
-    (40.0, 25.0): (-0.6, 3.5, 0.3),
-}
+    (r["coarse_um"], r["fine_um"]): (r["intensity_low_pct"], r["intensity_high_pct"], r["velocity_12a_pct"])
+    for r in _DATA["study_level_extrapolated"]["rows"]}
 
 
 def _same(a: float, b: float) -> bool:
@@ -268,3 +256,87 @@ def target_error_basis() -> str:
     return (f"the section 5 target: {material}, {shot} shot, 65 deg, 30 m/s, against its converged profile "
             f"(peak {TARGET_PROFILE_PEAK_MPA:g} MPa) and N_f limit ({N_F_LIMIT:g}); REV/dent element sizes measured: "
             f"{levels} ({STUDY_LEVEL_SOURCE})")
+
+
+# -- docs/results.md -----------------------------------------------------------------------------------------
+def _pct(v: float, signed: bool = False) -> str:
+    return f"{v:+.1f} %" if signed else f"{v:.1f} %"
+
+
+def _table(header: list[str], rows: list[list[str]]) -> list[str]:
+    return ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)] + ["| " + " | ".join(r) + " |" for r in rows]
+
+
+def _section(d: dict, header: list[str], rows: list[list[str]], extra: str = "") -> list[str]:
+    out = [f"### {d['title']}", "", d["about"].strip(), ""]
+    if extra:
+        out += [extra, ""]
+    out += _table(header, rows) + [""]
+    if "command" in d:
+        out += [f"Command: `{d['command']}`", ""]
+    return out
+
+
+_SINGLE = ["dent", "σxx peak", "zero crossing", "restitution", "profile RMS"]
+
+
+def _errors(r: dict) -> list[str]:
+    return [_pct(r["dent_pct"]), _pct(r["sxx_peak_pct"]), _pct(r["zero_crossing_pct"]), f"{r['restitution']:.3f}",
+            _pct(r["profile_rms_pct"])]
+
+
+def markdown(data: dict | None = None) -> str:
+    """docs/results.md: every figure of the data file (default: :data:`DATA_FILE`), as Markdown."""
+    d = _DATA if data is None else data
+    out = ["# Results", "",
+           "<!-- Rendered from peenflow/study/data/results.toml by "
+           "`python -m peenflow.study.accuracy --markdown > docs/results.md`: edit the data file, not this page "
+           "(tests/study/test_results_doc.py keeps them equal). -->", "",
+           "What peenflow gives today: first what each fidelity is measured to cost in accuracy (every result a "
+           "study computes states the line that applies to it, attribute `peenflow_fidelity_error`, and the "
+           "headline prints it), then what the shipped studies give beside the paper's numbers. How each figure "
+           "was measured, with the full tables, is in [validation.md](validation.md); what each run cost, in "
+           "[performance.md](performance.md). Where peenflow differs from the paper it says why; nothing is "
+           "tuned to match.", "",
+           "## What each fidelity is measured to cost", ""]
+    s = d["single_impact"]
+    out += _section(s, ["element µm"] + _SINGLE, [[f"{r['element_size_um']:g}"] + _errors(r) for r in s["rows"]])
+    s = d["single_impact_core"]
+    out += _section(s, ["block µm", "core µm"] + _SINGLE,
+                    [[f"{r['block_um']:g}", f"{r['core_um']:g}"] + _errors(r) for r in s["rows"]])
+    s = d["study_level"]
+    out += _section(s, ["element µm", "preset", "Almen intensity", "velocity for 12A"],
+                    [[f"{r['element_size_um']:g}", f"`{r['preset']}`",
+                      f"{_pct(r['intensity_low_pct'], True)} … {_pct(r['intensity_high_pct'], True)}",
+                      _pct(r["velocity_12a_pct"], True)] for r in s["rows"]])
+    s = d["study_level_extrapolated"]
+    out += _section(s, ["levels µm", "order", "Almen intensity", "velocity for 12A"],
+                    [[f"{r['coarse_um']:g} & {r['fine_um']:g}", f"{s['order']:g}",
+                      f"{_pct(r['intensity_low_pct'], True)} … {_pct(r['intensity_high_pct'], True)}",
+                      _pct(r["velocity_12a_pct"], True)] for r in s["rows"]])
+    s = d["target_nf"]
+    out += _section(s, ["dent element µm", "N_f"], [[f"{r['dent_um']:g}", _pct(r["n_f_pct"], True)] for r in s["rows"]],
+                    extra=f"The limit: N_f = {s['limit']:g}.")
+    s = d["target_nf_core"]
+    out += _section(s, ["block µm", "core µm", "N_f"],
+                    [[f"{r['block_um']:g}", f"{r['core_um']:g}", _pct(r["n_f_pct"], True)] for r in s["rows"]])
+    s = d["target_profile"]
+    out += _section(s, ["REV element µm", "dent element µm", "σxx peak", "compressive depth", "profile RMS"],
+                    [[f"{r['rev_um']:g}", f"{r['dent_um']:g}", _pct(r["sxx_peak_pct"], True),
+                      _pct(r["compressive_depth_pct"], True), _pct(r["profile_rms_pct"])] for r in s["rows"]],
+                    extra=f"The converged peak: σxx = {s['peak_MPa']:g} MPa.")
+    out += ["## What the shipped studies give", "",
+            "Each run's headline numbers beside the paper's (**bold**: the figures a study exists to give). "
+            "Fidelity and cost are those of the run that made them, on a 2-core machine.", ""]
+    for st in d["studies"]:
+        out += [f"### {st['title']}", "", f"Study: `{st['study']}`  ",
+                f"Command: `{st['command']}`  ", f"Fidelity: {st['fidelity']}  ", f"Cost: {st['cost']}", ""]
+        out += _table(["quantity", "paper", "peenflow"], [[r["quantity"], r["paper"], r["peenflow"]] for r in st["rows"]])
+        out += [""] + ([st["notes"].strip(), ""] if "notes" in st else [])
+    return "\n".join(out)
+
+
+if __name__ == "__main__":
+    if sys.argv[1:] != ["--markdown"]:
+        sys.exit("usage: python -m peenflow.study.accuracy --markdown   (prints docs/results.md)")
+    sys.stdout.write(markdown())

@@ -8,7 +8,7 @@ Quarter model: symmetric planes x = 0 and y = 0 through the impact point,
 fine zone 2a x 2a x 1.5a with a / h elements across the contact radius,
 graded (1.2) to ``extent`` x a, fixed bottom, frictionless (Hertz).
 
-What is measured (BENCHMARKS.md section 3) and what the tolerances stand on:
+What is measured (docs/validation.md section 2) and what the tolerances stand on:
 * the errors do not change from a/h = 4 to 8: no discretisation error left;
 * domain truncation: a fixed bottom at 25 a stiffens the target (1 m/s:
   approach -1.3 %, force +2.8 %); at 100 a, -0.5 % / +1.1 %;
@@ -119,7 +119,7 @@ def test_light_target_force_error_is_discretisation():
 
 @pytest.mark.slow
 def test_hertz_converged_with_refinement():
-    """a/h = 4 -> 8 moves every quantity by < 1.5 % (measured < 1 %, BENCHMARKS.md),
+    """a/h = 4 -> 8 moves every quantity by < 1.5 % (measured < 1 %, docs/validation.md 2),
     and the refined values keep the tolerances of test_hertz_55."""
     coarse, ref, _ = hertz_run(55.0, 4)
     fine, ref, res = hertz_run(55.0, 8)

@@ -176,7 +176,7 @@ def vs55():
 def test_window_error_small(runs, full55):
     """Default window (4 x 4 contact radii, held faces) against the full mesh.
 
-    Measured (BENCHMARKS.md section 2): dent -0.38 %, restitution +1.66 %, profile 1.90 %.
+    Measured (docs/validation.md section 6): dent -0.38 %, restitution +1.66 %, profile 1.90 %.
     """
     t, out = runs
     d, e, p = window_errors(out[55.0, True], full55, t)
@@ -263,7 +263,7 @@ def test_start_inside_the_surface_is_put_back_on_the_line():
 def test_plastic_impact_converges(speed, tol):
     """25 um (the paper's fine size) against 12.5 um.
 
-    Measured (BENCHMARKS.md): the dent deepens by 5.5 % at 55 m/s (contact
+    Measured (docs/validation.md section 3): the dent deepens by 5.5 % at 55 m/s (contact
     radius ~4 elements at 25 um) and by 10 % at 25 m/s (~2.8 elements);
     restitution moves by 2 % / 5 %. The test pins the direction (converging
     from below: one-point elements with hourglass control are stiff on coarse

@@ -79,7 +79,7 @@ def test_static_matches_strict_relaxation(unrelaxed):
 
 def test_the_loosest_study_tolerance_keeps_its_stated_error(unrelaxed):
     """``fidelity.relaxation_tolerance`` admits up to 1e-3 (peenflow.study.bounds), stated in
-    BENCHMARKS.md section 2 from the paper's 6D REV as: the averaged profile within 0.21 % of the
+    docs/performance.md section 3 from the paper's 6D REV as: the averaged profile within 0.21 % of the
     strict solve's peak and every stress within 14 MPa. On this second REV (two windowed impacts,
     25 um) the loosest tolerance keeps both (measured: 0.12 %, 6.3 MPa, 3 element passes against
     8 at 1e-7), and it is a real loosening (the profile moves by more than at 1e-7: 0.0009 %)."""

@@ -47,7 +47,7 @@ def slow_runs():
 
 
 def test_window_minimum_size_at_low_speed(slow_runs):
-    """Measured (BENCHMARKS.md section 2, "Window minimum size"): sized in
+    """Measured (docs/validation.md section 6, "Slow shots"): sized in
     contact radii only the 1 m/s window is 6 x 6 x 3 elements and adds 6.1 %
     to the peak force; with the minimum (>= 3 elements, >= 0.05 c_p t_c) it
     is 26 x 26 x 12 and +0.4 %."""

@@ -1,5 +1,5 @@
 """The fidelity statement every result carries (peenflow/study/accuracy.py): its numbers are the
-measured ones of BENCHMARKS.md 4c, it says when a size was not measured, and results and the
+measured ones of docs/validation.md section 4, it says when a size was not measured, and results and the
 headline carry it."""
 
 import re
@@ -12,10 +12,10 @@ from peenflow.validation import runs
 REPO = Path(__file__).resolve().parents[2]
 
 
-def _benchmarks_rows(marker: str, first_column: str) -> list[dict]:
-    """The rows ({column: cell}) of the first BENCHMARKS.md table after ``marker`` whose header
+def _validation_rows(marker: str, first_column: str) -> list[dict]:
+    """The rows ({column: cell}) of the first docs/validation.md table after ``marker`` whose header
     starts with ``first_column``."""
-    text = (REPO / "BENCHMARKS.md").read_text()
+    text = (REPO / "docs" / "validation.md").read_text()
     lines = text[text.index(marker):].splitlines()
     header = next(ln for ln in lines if ln.startswith(f"| {first_column} |"))
     cols = [c.strip() for c in header.strip("|").split("|")]
@@ -33,15 +33,15 @@ def _errors(cells: dict) -> tuple[float, ...]:
                  for k in ("dent", "σxx peak", "zero crossing", "restitution", "profile RMS"))
 
 
-def _benchmarks_summary() -> dict:
-    """The 'Worst |error| over the four cases and the four aims' table of BENCHMARKS.md 4c (the
+def _validation_summary() -> dict:
+    """The 'Worst |error| over the four cases and the four aims' table of docs/validation.md section 4 (the
     physical element, the shot aimed on a node and 1/4, 1/2, 3/4 of an element off it)."""
-    rows = _benchmarks_rows("Worst |error| over the four cases and the four aims per element size", "h um")
+    rows = _validation_rows("Worst |error| over the four cases and the four aims per element size", "h um")
     return {float(cells["h um"]): _errors(cells) for cells in rows}
 
 
 def test_the_numbers_are_the_measured_ones():
-    assert SINGLE_IMPACT == _benchmarks_summary()
+    assert SINGLE_IMPACT == _validation_summary()
 
 
 def test_a_measured_size_states_its_error_and_an_unmeasured_one_says_so(tmp_path):
@@ -190,7 +190,7 @@ def test_the_target_numbers_are_the_measured_ones():
 def test_a_core_study_states_the_core_s_error(tmp_path):
     """With fidelity.dent_refinement = "core" the REV results state the N_f error measured for a core
     of the dent's size in the study's block, and the dent's own results the single-impact error of
-    that core (BENCHMARKS.md 4c and section 9), not those of the block refined throughout."""
+    that core (docs/validation.md sections 4 and 9), not those of the block refined throughout."""
     from peenflow.study.accuracy import DENT_CORE_LEVEL_NF, DENT_LEVEL_NF, SINGLE_IMPACT_CORE, TARGET_PROFILE
 
     (tmp_path / "paper_fast_25um.toml").write_text((REPO / "studies" / "paper_fast_25um.toml").read_text())
@@ -210,16 +210,16 @@ def test_a_core_study_states_the_core_s_error(tmp_path):
     dent = statement(fid, element_size_um=6.25, level="dent")
     assert "25 um elements, a core of 6.25 um elements under the impact" in dent["peenflow_fidelity"], dent
     d, peak, *_ = SINGLE_IMPACT_CORE[(25.0, 6.25)]
-    assert (f"single impact with a core of 6.25 um elements in a 25 um block (worst of 4 cases, BENCHMARKS.md "
-            f"section 4c): dent depth <= {d:g} %, sigma_xx peak <= {peak:g} %") in dent["peenflow_fidelity_error"]
+    assert (f"single impact with a core of 6.25 um elements in a 25 um block (worst of 4 cases, docs/validation.md, "
+            f"single impact): dent depth <= {d:g} %, sigma_xx peak <= {peak:g} %") in dent["peenflow_fidelity_error"]
 
 
 def test_the_core_numbers_are_the_measured_ones():
-    """SINGLE_IMPACT_CORE equals the study-core rows of BENCHMARKS.md 4c ("The cores a study makes")."""
+    """SINGLE_IMPACT_CORE equals the study-core rows of docs/validation.md section 4 ("The cores a study makes")."""
     from peenflow.study.accuracy import SINGLE_IMPACT_CORE
 
     found = {}
-    for cells in _benchmarks_rows("**The cores a study makes", "mesh"):
+    for cells in _validation_rows("**The cores a study makes", "mesh"):
         m = re.fullmatch(r"([\d.]+) µm, study core ([\d.]+) µm", cells["mesh"])
         if m:
             found[(float(m[1]), float(m[2]))] = _errors(cells)
@@ -228,8 +228,8 @@ def test_the_core_numbers_are_the_measured_ones():
 
 def test_a_50_um_study_with_a_dent_core_states_the_core_s_errors(tmp_path):
     """A study at 50 um elements taking its dent from a 6.25 um core states the core's measured
-    N_f error (BENCHMARKS.md section 9, the 50 um block: -6.3 %, not the 50 um dent's -42.6 %) on its
-    REV results, and the 50 um block's core error (section 4c) on the dent's own results."""
+    N_f error (docs/validation.md section 9, the 50 um block: -6.3 %, not the 50 um dent's -42.6 %) on its
+    REV results, and the 50 um block's core error (section 4) on the dent's own results."""
     from peenflow.study.accuracy import DENT_CORE_LEVEL_NF, DENT_LEVEL_NF, SINGLE_IMPACT_CORE
 
     p = tmp_path / "core50.toml"
@@ -243,5 +243,5 @@ def test_a_50_um_study_with_a_dent_core_states_the_core_s_errors(tmp_path):
     assert f"N_f {DENT_LEVEL_NF[50.0]:+.1f} %" not in err, err
     dent = statement(fid, element_size_um=6.25, level="dent")
     d, peak, *_ = SINGLE_IMPACT_CORE[(50.0, 6.25)]
-    assert (f"single impact with a core of 6.25 um elements in a 50 um block (worst of 4 cases, BENCHMARKS.md "
-            f"section 4c): dent depth <= {d:g} %, sigma_xx peak <= {peak:g} %") in dent["peenflow_fidelity_error"]
+    assert (f"single impact with a core of 6.25 um elements in a 50 um block (worst of 4 cases, docs/validation.md, "
+            f"single impact): dent depth <= {d:g} %, sigma_xx peak <= {peak:g} %") in dent["peenflow_fidelity_error"]

@@ -16,7 +16,8 @@ import peenflow
 from peenflow.engine.conventions import cf_problems, units_ok
 from peenflow.testing import assert_cf_variables
 
-STUB_TABLES = Path(__file__).resolve().parents[3] / "shared" / "cf-stub-tables"
+#: the offline CF tables the checker reads instead of downloading them (empty tables: tests/data/cf-tables/README.md)
+STUB_TABLES = Path(__file__).resolve().parents[1] / "data" / "cf-tables"
 #: standard names we use that are in the CF table; the offline stub table is
 #: empty, so the checker reports them as unknown -- the only error it may give
 KNOWN_STANDARD_NAMES = {"depth"}
@@ -107,10 +108,14 @@ def _cfchecker_or_skip():
         pytest.skip(f"cfchecker is not installed ({exc}); `pip install cfchecker` runs the external CF check")
     except (OSError, AttributeError) as exc:  # a udunits2 that cannot be loaded
         pytest.skip(f"cfchecker cannot load udunits2 ({exc}); install Debian's libudunits2-0")
-    if not (STUB_TABLES / "standard_name_table.xml").exists():
-        pytest.skip(f"no offline CF tables at {STUB_TABLES} (the checker would download them)")
     exe = Path(sys.executable).with_name("cfchecks")
     return str(exe) if exe.exists() else shutil.which("cfchecks")
+
+
+def test_the_offline_cf_tables_ship_with_the_tests():
+    """The checker's offline tables are in the repository, so a fresh clone runs the CF check (with udunits2)."""
+    for name in ("standard_name_table.xml", "area_type_table.xml", "region_names.xml"):
+        assert (STUB_TABLES / name).is_file(), STUB_TABLES / name
 
 
 def test_cf_checker_finds_no_errors_or_warnings(micro, tmp_path):

@@ -1,6 +1,6 @@
 """A finer core under the target's single impact (``fidelity.dent_refinement = "core"``): the core's
 mesh (its nodes a uniform fine mesh's, grading within the study's ratio, the block outside the fine
-zone untouched) and the dent it gives against the block refined throughout (BENCHMARKS.md section 9)."""
+zone untouched) and the dent it gives against the block refined throughout (docs/validation.md section 9)."""
 
 from __future__ import annotations
 
