@@ -38,6 +38,7 @@ from peenflow.fe.mesh import BoxMesh
 from peenflow.fe.window import window_size
 from peenflow.methods.coverage import AvramiFit
 from peenflow.study.errors import StudyError
+from peenflow.units import MM
 
 from . import _kernel as K
 from .params import FidelityParams, MaterialParams, StudyParams
@@ -187,22 +188,22 @@ def kernel_points(study, p: StudyParams, block_half_width_D: float) -> list[Kern
                                                 if study.fidelity.dent_element_size_um is not None else size)
         if p.dent_core_element_size_m is not None:  # the core's elements set the step; counted as a whole block
             dent_fid = replace(dent_fid, element_size_m=p.dent_core_element_size_m)
-        impact("target_impact", key, v, t.angle_deg, p.target_material, dent_fid, min(t.rev_thickness_m, half),
+        impact("target_impact", key, v, t.angle_deg, p.target_material, dent_fid, min(p.target_plan.rev_thickness_m, half),
                cheaper=f"a larger {dent_size}")
         if t.rev_thickness_auto:
-            first = min(t.thickness_m, max(2.0 * p.fidelity.element_size_m, D))
-            runs = 2 * max(1, int(math.ceil(math.log2(max(t.thickness_m / first, 1.0))))) + 1
-            impact("target_rev_thickness", key, v, t.angle_deg, p.target_material, p.fidelity, t.thickness_m,
+            first = min(p.target_plan.thickness_m, max(2.0 * p.fidelity.element_size_m, D))
+            runs = 2 * max(1, int(math.ceil(math.log2(max(p.target_plan.thickness_m / first, 1.0))))) + 1
+            impact("target_rev_thickness", key, v, t.angle_deg, p.target_material, p.fidelity, p.target_plan.thickness_m,
                    runs, f"at most {runs} single impacts (doubling block thickness up to target.thickness_mm)",
                    f"a larger {size}, a given target.rev_thickness_mm")
         if p.target_rev.rule == "dmin":
             impact("target_dmin", key, v, t.angle_deg, p.target_material, p.fidelity,
-                   min(t.rev_thickness_m, 2 * half), dmin_runs * (1 if t.angle_deg == 90.0 else 2), dmin_from,
+                   min(p.target_plan.rev_thickness_m, 2 * half), dmin_runs * (1 if t.angle_deg == 90.0 else 2), dmin_from,
                    f"a larger {size}, a coarser dmin.resolution_D")
         d_max = search.max_distance_m if p.target_rev.rule == "dmin" else None
         side = p.target_rev.geometry(d_max).side
         n_c = target_coverage_shots(study, p, side, v)
-        rev("target_runs", key, v, t.angle_deg, p.target_material, p.fidelity, side, t.rev_thickness_m, n_c,
+        rev("target_runs", key, v, t.angle_deg, p.target_material, p.fidelity, side, p.target_plan.rev_thickness_m, n_c,
             f"N_c for target.coverage_percent = {t.coverage_levels_percent[-1]:g} %, estimated from the contact area",
             f"a larger {size}, a lower target.coverage_percent, a smaller target.rev_size_mm")
     return out
@@ -279,7 +280,7 @@ def _rev_smaller_than_a_dent(study, p: StudyParams) -> list[str]:
             f"{side * side * 1e6:.3g} mm2) is smaller than one dent (estimated contact radius {a * 1e3:.3g} mm at "
             f"{speed:g} m/s: {math.pi * a * a * 1e6:.3g} mm2), so the REV holds less than one dent and its "
             f"coverage cannot grow shot by shot. What to change: a larger target.rev_size_mm (at least 1 D = "
-            f"{p.shot.diameter_m * 1e3:g} mm and 10 elements)"]
+            f"{p.shot.diameter_m / MM:g} mm and 10 elements)"]
 
 
 def refuse(path, study, p: StudyParams, block_half_width_D: float) -> None:

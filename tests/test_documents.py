@@ -48,11 +48,7 @@ def test_no_history_in_the_user_documents(doc):
 #: docs/study-files.md quotes a bound's refusal verbatim (tests/study/test_bounds.py), and the reasons in
 #: peenflow/study/bounds.py still cite the former BENCHMARKS.md: strict, so fixing them turns this into a failure
 #: that asks for the mark to go
-_QUOTES_BOUNDS = pytest.mark.xfail(strict=True, reason="peenflow/study/bounds.py's reasons still cite BENCHMARKS.md")
-
-
-@pytest.mark.parametrize("doc", [pytest.param(d, marks=_QUOTES_BOUNDS) if d.name == "study-files.md" else d
-                                 for d in DOCS], ids=lambda p: p.relative_to(REPO).as_posix())
+@pytest.mark.parametrize("doc", DOCS, ids=lambda p: p.relative_to(REPO).as_posix())
 def test_no_document_cites_the_removed_benchmarks_notebook(doc):
     assert "BENCHMARKS.md" not in doc.read_text(encoding="utf-8")
 

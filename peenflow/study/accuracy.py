@@ -5,7 +5,7 @@ the package), which also renders ``docs/results.md`` (``python -m peenflow.study
 --markdown``; a test keeps the page equal to the rendering). How each was measured is in
 ``docs/validation.md``:
 
-Single impact (``single_impact``: ``benchmarks/bench_hourglass.py offsets``): the worst error over
+Single impact (``single_impact``: ``benchmarks/single_impact.py offsets``): the worst error over
 four cases -- S230 on SAE 1070 at 25 and 55 m/s normal and at 55 m/s, 45 deg; on Al 7075-T73 at
 47 m/s, 65 deg -- and over four aims of the shot on the element grid (on a node, 1/4, 1/2 and 3/4
 of an element off it along the plane of incidence: in a REV shots land anywhere), of the kernel's
@@ -15,8 +15,8 @@ zero-crossing depth in per cent of the reference, restitution as a difference, t
 profile as its RMS over 0-0.3 mm in per cent of the reference peak; sigma_xx(z) read on the curve
 recovered from the layer means (``DepthProfile.point_values``).
 
-Study level (``study_level``: ``benchmarks/bench_presets.py`` on the levels of
-``benchmarks/bench_reference.py``): the Almen intensity of four strip points (90 deg / 55 m/s;
+Study level (``study_level``: ``benchmarks/presets.py`` on the levels of
+``benchmarks/study_reference.py``): the Almen intensity of four strip points (90 deg / 55 m/s;
 67.5 deg at 25, 30 and 35 m/s; periodic 1.2 mm REV, standard preset values, only the element size
 varied, paired shot streams) and the velocity for 12A on the 67.5 deg control curve through them,
 against references: per point the Richardson extrapolation of the three finest levels (40 / 25 /

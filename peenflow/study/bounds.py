@@ -39,9 +39,9 @@ class Bound:
         return f"[{lo}, {hi}]{' ' + self.unit if self.unit else ''}"
 
 
-_V = "the kernel's stability sweep (BENCHMARKS.md 4b: 1-400 m/s on 25-100 um meshes, all finish)"
+_V = "the kernel's stability sweep (docs/validation.md §8: 1-400 m/s on 25-100 um meshes, all finish)"
 _A = "the angles run so far (45-90 deg, paper sections 4-5); below 45 deg the shot's slide along the surface is unvalidated"
-_H = "meshes run so far: 6.25 um (convergence, BENCHMARKS.md 4) to 100 um (stability sweep, micro study)"
+_H = "meshes run so far: 6.25 um (convergence, docs/validation.md §3) to 100 um (stability sweep, micro study)"
 _MAT = "engineering metals (a typo by a factor of 1000 lands outside)"
 
 BOUNDS: tuple[Bound, ...] = (
@@ -50,7 +50,7 @@ BOUNDS: tuple[Bound, ...] = (
     *(Bound(key, 45.0, 90.0, "deg", _A) for key in ("almen.angles_deg", "target.angle_deg", "dmin.strip_angles_deg")),
     Bound("target.coverage_percent", 1.0, 1000.0, "%",
           "a 1000 % sequence finishes on the coarsest mesh (micro study, 100 um, 3 seeds); 10 000 % there ran "
-          "away at 4100-5200 % (runaway energy, plastic strain near 10; BENCHMARKS.md 4b)"),
+          "away at 4100-5200 % (runaway energy, plastic strain near 10; docs/validation.md §8)"),
     Bound("almen.shot_counts", 1.0, 5120.0, "shots", "the longest strip ladder run (paper_al7075_coarse.toml)"),
     Bound("almen.first_shots", 1.0, 1280.0, "shots", "a ladder of >= 3 doubling rungs within almen.max_shots"),
     Bound("almen.max_shots", 1.0, 5120.0, "shots", "as almen.shot_counts"),
@@ -66,13 +66,13 @@ BOUNDS: tuple[Bound, ...] = (
     Bound("fidelity.element_size_um", 6.25, 100.0, "um", _H),
     Bound("fidelity.extrapolate_intensity_from_um", 6.25, 40.0, "um",
           "40 & 25 um extrapolated are within -0.6 ... +3.5 % of the strip references; a 60 um level is "
-          "pre-asymptotic (60 & 40 um: -11.3 ... +0.9 %, 12A velocity +14.7 %; BENCHMARKS.md section 9)"),
+          "pre-asymptotic (60 & 40 um: -11.3 ... +0.9 %, 12A velocity +14.7 %; docs/validation.md §9)"),
     Bound("fidelity.dent_element_size_um", 6.25, 40.0, "um",
-          "the target's N_f measured from dents at 6.25-40 um (BENCHMARKS.md section 9); it refines the "
+          "the target's N_f measured from dents at 6.25-40 um (docs/validation.md §9); it refines the "
           "dent, so a level coarser than the studies' 40 um adds only error"),
     Bound("fidelity.intensity_extrapolation_order", 0.5, 4.0, "",
           "the strip references converge with orders 1.72-1.99; outside [0.5, 4] no level triple was accepted "
-          "as converging (benchmarks/bench_reference.py)"),
+          "as converging (benchmarks/study_reference.py)"),
     Bound("fidelity.fine_depth_D", 0.25, 4.0, "D", "shipped presets use 0.75-1 D: the plastic zone is ~0.5 D deep"),
     Bound("fidelity.fine_depth_mm", 0.05, 10.0, "mm", "the same as fine_depth_D for 0.1-2.5 mm shot"),
     Bound("fidelity.time_step_safety", 0.1, 1.0, "",
@@ -80,11 +80,10 @@ BOUNDS: tuple[Bound, ...] = (
     Bound("fidelity.window_contact_radii", 0.0, 20.0, "contact radii",
           "0 = whole mesh; shipped presets 3-6; a wider window only costs time"),
     Bound("fidelity.settle_tolerance", 1e-9, 1e-3, "",
-          "bench_kernel settle: 1e-6 default, 1e-4 coarse; looser lets the next shot hit a ringing target"),
+          "strip_rev settle: 1e-6 default, 1e-4 coarse; looser lets the next shot hit a ringing target"),
     Bound("fidelity.relaxation_tolerance", 1e-12, 1e-3, "",
           "against a strict solve, 6D REV snapshots: the averaged profile within 0.009 % of its peak at 1e-5 "
-          "(1.4-1.7 impacts), 0.21 % and every stress within 14 MPa at 1e-3 (0.9-1.2 impacts; BENCHMARKS.md "
-          "section 2); looser is unmeasured"),
+          "(1.4-1.7 impacts), 0.21 % and every stress within 14 MPa at 1e-3 (0.9-1.2 impacts; docs/performance.md §3); looser is unmeasured"),
     Bound("shot.friction_coefficient", 0.0, 0.6, "", "the paper's 0.2; measured steel-on-steel 0.1-0.6"),
     Bound("target.thickness_mm", 0.1, 1000.0, "mm", "parts and strips (0.79-2.39 mm) of real size"),
     Bound("shots.diameter_mm", 0.1, 3.0, "mm", "SAE J444 cast shot S70-S780 (0.18-2 mm), with margin"),
@@ -102,9 +101,9 @@ BOUNDS: tuple[Bound, ...] = (
 #: bounds relative to other values: (key, what, basis); checked in :func:`check_bounds`
 RELATIVE_BOUNDS: tuple[tuple[str, str, str], ...] = (
     ("fidelity.element_size_um", "at most D / 5 (shot diameter)",
-     "the dents computed so far have radii of 0.2-0.26 D (README): D / 5 keeps at least one element per dent radius"),
+     "the dents computed so far have radii of 0.2-0.26 D (docs/results.md): D / 5 keeps at least one element per dent radius"),
     ("fidelity.element_size_um", "at most 7.5 estimated contact radii at the study's lowest velocity",
-     "the stability sweep reaches 7.3 (1 m/s on 100 um elements, SAE 1070; bench_stability.py low)"),
+     "the stability sweep reaches 7.3 (1 m/s on 100 um elements, SAE 1070; stability.py low)"),
     ("fidelity.extrapolate_intensity_from_um", "at most D / 5 and 7.5 estimated contact radii at the lowest "
      "almen velocity, as fidelity.element_size_um", "its level runs the strips (as fidelity.element_size_um)"),
     ("almen.rev_size_mm", "at least 1 D and 10 elements (of the coarse level too, with an intensity extrapolation)", "a REV must hold one dent; fewer elements "

@@ -61,7 +61,7 @@ def test_the_prediction_is_the_kernel_s_step_and_window_and_its_contact_within_3
     target's impact block (100 um, normal impacts at 5-300 m/s: 136 / 88 / 74 steps against 118 / 103 / 103)."""
     s = load_study(HERE / "micro.toml")
     p = study_params(s)
-    mesh, res = run_single_impact(p.target_material, p.shot, p.fidelity, speed, 90.0, IMPACT_BLOCK_D * s.shot.diameter_m,
+    mesh, res = run_single_impact(p.target_material, p.shot, p.fidelity, speed, 90.0, IMPACT_BLOCK_D * p.shot.diameter_m,
                                   1e-3, record=True)
     rec = res.shots
     c = predict(KernelPoint("target_impact", "target.velocity_m_s", speed, 90.0, p.target_material, p.fidelity, mesh,
@@ -170,12 +170,12 @@ def test_coverage_curve_names_a_rev_smaller_than_its_dent_instead_of_a_math_erro
     settings = CoverageParams(shot_radius_m=0.29e-3, grid_points=11, max_shots=None, shot_counts=None, sequences=2,
                               seeds=(1, 2), full_coverage_percent=98.0)
     with pytest.raises(ValueError, match="smaller than one dent") as err:
-        coverage_curve.fn(dent, rev, angle_deg=90.0, coverage_percent=100.0, settings=settings)
+        coverage_curve.fn(dent, rev, angle_deg=90.0, coverage_levels_percent=(100.0,), settings=settings)
     area = math.pi * 0.12e-3 ** 2
     assert f"({area * 1e6:.4g} mm2)" in str(err.value) and "target.rev_size_mm" in str(err.value)
     assert "math domain" not in str(err.value)
     # a REV just larger than its dent still gives a curve (small shots: the landings fit 2R apart)
     rev = xr.Dataset({"rev_side_m": ((), 1.1 * math.sqrt(area)), "measure_side_m": ((), 0.3 * math.sqrt(area))})
-    out = coverage_curve.fn(dent, rev, angle_deg=90.0, coverage_percent=100.0,
+    out = coverage_curve.fn(dent, rev, angle_deg=90.0, coverage_levels_percent=(100.0,),
                             settings=replace(settings, shot_radius_m=0.01e-3))
     assert np.all(np.diff(out.coverage_mean_percent.values) >= 0) and out.coverage_mean_percent.values[-1] > 98.0
