@@ -61,8 +61,13 @@ RUN = Outputs(
 
 def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: FidelityParams, side_m: float,
             measure_side_m: float, thickness_m: float, angle_deg: float, velocity_m_s: float, seed: int,
-            ladder: list, extend: LadderParams | None = None) -> xr.Dataset:
+            ladder: list, extend: LadderParams | None = None, sequence_shots: int | None = None) -> xr.Dataset:
     """The run (module docstring); ``ladder``: the rungs, or with ``extend`` ignored.
+
+    ``sequence_shots``: the length of the sequence the shots are drawn from (default: the last rung). A
+    longer sequence run only to the last rung is that sequence stopped there: its rungs are the ones a
+    run through the whole sequence snapshots (the first n arrivals of one stream,
+    :mod:`peenflow.methods.shot_stream`).
 
     ``extend`` (a strip ladder that extends itself, ``almen.shot_counts = "auto"``):
     its first and largest shot counts, the saturation fit (``almen.saturation_fit``)
@@ -79,7 +84,8 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
     z_edges = mesh.z
     half = 0.5 * side_m
     region = (-0.5 * measure_side_m, 0.5 * measure_side_m, -0.5 * measure_side_m, 0.5 * measure_side_m)
-    stream = shot_stream(ladder[-1], shot.radius_m, half, half, angle_deg, velocity_m_s, seed)
+    stream = shot_stream(max(ladder[-1], sequence_shots or 0), shot.radius_m, half, half, angle_deg, velocity_m_s,
+                         seed)
     target = fidelity.boundary(mesh)
     material_k = material.to_kernel()
     options = fidelity.options(shot, ctx.threads if ctx else 1)

@@ -142,7 +142,8 @@ def graph_for_family(f: StudyFamily) -> Graph:
         raise RuntimeError(f"stages missing from tasks.pipeline.STAGES: {sorted(unknown)}")
     t = first.target_plan
     g.labels = {**first.names, "coverage_percent": t.coverage_levels_percent[-1] if t is not None else None,
-                "process_dims": [d.name for d in f.dims]}
+                "process_dims": [d.name for d in f.dims],
+                "coverage_levels_percent": list(t.coverage_levels_percent) if t is not None else []}
     return g
 
 

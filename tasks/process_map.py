@@ -79,9 +79,13 @@ def process_map(profiles: xr.Dataset, *, dims: list, errors: list, error_basis: 
     order); ``errors``: per point (in the order of the combinations, the last dimension fastest) a dict of
     :data:`ERROR_FIELDS` (None: unmeasured); ``error_basis``: the measured case those errors come from."""
     dims = list(dims)
-    stacked = profiles.stack(point=dims) if dims else profiles.expand_dims(point=[0])
-    n = stacked.sizes["point"]
-    depth_per = [np.asarray(stacked.depth_m.isel(point=k).values, dtype=float) for k in range(n)]
+    if dims:
+        stacked = profiles.stack(point=dims)
+        points = [stacked.isel(point=k) for k in range(stacked.sizes["point"])]
+    else:  # one point: a single study with requirements
+        points = [profiles]
+    n = len(points)
+    depth_per = [np.asarray(pt.depth_m.values, dtype=float) for pt in points]
     grid = common_depths(depth_per)
     levels = np.asarray(profiles.coverage_percent.values, dtype=float)
     out: dict[str, list] = {}
@@ -89,8 +93,7 @@ def process_map(profiles: xr.Dataset, *, dims: list, errors: list, error_basis: 
     def put(name, value):
         out.setdefault(name, []).append(value)
 
-    for k in range(n):
-        pt = stacked.isel(point=k)
+    for k, pt in enumerate(points):
         z = depth_per[k]
         ok = np.isfinite(z)
         for c in ("xx", "yy"):

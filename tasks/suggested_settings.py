@@ -109,9 +109,11 @@ def suggested_settings(process_map: xr.Dataset, *, requirements: RequirementPara
         point = pmap.isel(sel).interp({axis: at}) if pmap.sizes[axis] > 1 else pmap.isel(sel).isel({axis: 0})
         margins = [_margin(float(point[v]), lo, hi) for v, _, lo, hi, _ in r.bounds]
         values = [float(point[v]) for v, _, _, _, _ in r.bounds]
-        where = {**{d: _coordinate(pmap, d, i) for d, i in sel.items()}, axis: float(at)}
-        verdict = (f"met: {r.minimise} = {value:.4g} (band {low:.4g} ... {high:.4g}) at "
-                   + ", ".join(f"{d} = {v}" for d, v in where.items()))
+        units = "1" if r.minimise == "shots" else pmap[r.minimise].attrs.get("units", "1")
+        where = {**{d: _coordinate(pmap, d, i) for d, i in sel.items()},
+                 axis: _readable(float(at), pmap[axis].attrs.get("units", "1"))}
+        verdict = (f"met: least {r.minimise} {_readable(value, units)} (band {_readable(low, units)} ... "
+                   f"{_readable(high, units)}) at " + ", ".join(f"{d} {v}" for d, v in where.items()))
         met = 1
     else:
         value = low = high = np.nan
@@ -127,7 +129,7 @@ def suggested_settings(process_map: xr.Dataset, *, requirements: RequirementPara
         margins, sel, values = worst
         where = {d: _coordinate(pmap, d, i) for d, i in sel.items()}
         misses = [f"{key} misses by {-m:.1%} of its bound" for m, (_, _, _, _, key) in zip(margins, r.bounds) if m < 0]
-        verdict = ("not met by any setting in the map; closest: " + ", ".join(f"{d} = {v}" for d, v in where.items())
+        verdict = ("not met by any setting in the map; closest: " + ", ".join(f"{d} {v}" for d, v in where.items())
                    + ": " + "; ".join(misses))
     units = ("1" if r.minimise == "shots" else pmap[r.minimise].attrs.get("units", "1"))
     return OUTPUTS.dataset(
@@ -141,14 +143,22 @@ def suggested_settings(process_map: xr.Dataset, *, requirements: RequirementPara
                **{f"setting_{d}": str(v) for d, v in where.items()}})
 
 
-def _coordinate(pmap: xr.Dataset, dim: str, index: int):
-    """A dimension's value at ``index`` as a person reads it (a name for a named dimension)."""
+def _coordinate(pmap: xr.Dataset, dim: str, index: int) -> str:
+    """A dimension's value at ``index`` as a person reads it: a name, the shop notation, mm or MPa."""
     c = pmap[dim]
-    meanings = c.attrs.get("flag_meanings")
     value = c.values[index]
-    if meanings:
-        return meanings.split()[int(value)]
-    return float(value)
+    if c.attrs.get("flag_meanings"):
+        return c.attrs["flag_meanings"].split()[int(value)]
+    if c.attrs.get("shop_notation"):
+        return c.attrs["shop_notation"].split()[index]
+    return _readable(float(value), c.attrs.get("units", "1"))
+
+
+def _readable(value: float, units: str) -> str:
+    """``value`` (SI) in the units a person reads: m as mm, Pa as MPa, % and degrees as they are."""
+    scale, shown = {"m": (1e3, " mm"), "Pa": (1e-6, " MPa"), "%": (1.0, " %"), "degree": (1.0, " deg"),
+                    "m s-1": (1.0, " m/s")}.get(units, (1.0, "" if units == "1" else f" {units}"))
+    return f"{value * scale:.4g}{shown}"
 
 
 def _least(xs: np.ndarray, setting: np.ndarray, features: list, edge: float) -> tuple[float, float]:

@@ -12,8 +12,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..methods.measured_strips import MODELS
-from ..study.almen_strips import (AlmenStripsError, almen_strips_intensity, read_almen_strips, shop_notation,
-                                  strip_types)
+from tasks.measured_intensity import almen_strips_intensity
+
+from ..study.almen_strips import AlmenStripsError, read_almen_strips, shop_notation, strip_types
 from ._common import UserError
 
 NAME = "intensity"

@@ -84,6 +84,22 @@ def as_point(ds: xr.Dataset, coords: Mapping) -> xr.Dataset:
     return ds.reset_coords(loose).expand_dims(dims).set_coords(loose)
 
 
+def stored_point_dims(ds: xr.Dataset) -> list[str]:
+    """The sweep dimensions a stored result was written with (from its ``peenflow_point`` label,
+    ``stage[dim=value,...]``)."""
+    label = str(ds.attrs.get("peenflow_point", ""))
+    inner = label.partition("[")[2].rstrip("]")
+    return [kv.split("=", 1)[0] for kv in inner.split(",") if "=" in kv]
+
+
+def retag_point(ds: xr.Dataset, coords: Mapping) -> xr.Dataset:
+    """A stored result as a point with ``coords``: length-1 sweep dimensions it was written with that this
+    point does not have are dropped (a result shared by two studies carries the first one's dimensions;
+    what a dimension does not reach is the same result in both)."""
+    stray = [d for d in stored_point_dims(ds) if d not in coords and ds.sizes.get(d) == 1]
+    return ds.squeeze(stray, drop=True) if stray else ds
+
+
 def squeeze_point(ds: xr.Dataset, dims) -> xr.Dataset:
     """The length-1 sweep dimensions ``dims`` as 0-d coordinates (what a task receives)."""
     present = [d for d in dims if d in ds.dims]

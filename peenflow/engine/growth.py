@@ -100,10 +100,11 @@ def _ask(graph: Graph, store, sweep: Sweep, stored: list, coords: dict) -> GrowV
     cache = graph.growth_verdicts
     memo = (sweep.stage, tuple(h for _, _, h in stored))
     if memo not in cache:
-        from .conventions import squeeze_point
+        from .conventions import retag_point, squeeze_point
 
         # as a task would receive them: the point's sweep values as 0-d coordinates
-        datasets = [squeeze_point(store.open(n.task.name, key), n.coords) for n, key, _ in stored]
+        datasets = [squeeze_point(retag_point(store.open(n.task.name, key), n.coords), n.coords)
+                    for n, key, _ in stored]
         v = sweep.grow.until(datasets, coords)
         cache[memo] = v if isinstance(v, GrowVerdict) else GrowVerdict(bool(v), "")
     return cache[memo]

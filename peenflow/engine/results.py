@@ -5,6 +5,7 @@ from __future__ import annotations
 import xarray as xr
 
 from .combine import combine_points
+from .conventions import retag_point
 from .graph import Graph
 from .planner import plan
 from .reasons import State
@@ -34,8 +35,8 @@ def stage_result(graph: Graph, store: DirectoryStore, stage: str, allow_partial:
             + f" -- run `peenflow run` first"
         )
     opener = store.open_lazy if lazy else store.open
-    datasets = [opener(i.node.task.name, i.key) for i in ready]
+    datasets = [retag_point(opener(i.node.task.name, i.key), i.node.coords) for i in ready]
     if len(nodes) == 1 and not nodes[0].coords:
         return datasets[0]
-    dims = list(nodes[0].coords)
+    dims = list(dict.fromkeys(d for n in nodes for d in n.coords))
     return combine_points(datasets, [i.node.coords for i in ready], dims)

@@ -27,7 +27,7 @@ from .blas import pin_blas_threads
 from .canonical import canonical_json
 from .combine import combine_points
 from .context import TaskContext
-from .conventions import conform, squeeze_point
+from .conventions import conform, retag_point, squeeze_point
 from .cores import active_budget
 from .interrupt import Interrupted, stop_reason, stop_requested
 from .keys import KeyParts, reason_against_slot
@@ -124,9 +124,9 @@ def _load_upstream(store: DirectoryStore, spec: PointSpec, ups: list[Outcome]) -
         # the task gets them as 0-d coordinates, except the dims it combines along.
         if ref.dims is None:
             o = ups[ref.indices[0]]
-            args[name] = squeeze_point(store.open(o.task, o.key), o.coords)
+            args[name] = squeeze_point(retag_point(store.open(o.task, o.key), o.coords), o.coords)
         else:
-            datasets = [store.open(ups[i].task, ups[i].key) for i in ref.indices]
+            datasets = [retag_point(store.open(ups[i].task, ups[i].key), ups[i].coords) for i in ref.indices]
             combined = combine_points(datasets, [ups[i].coords for i in ref.indices], ref.dims)
             fixed = {d for i in ref.indices for d in ups[i].coords if d not in ref.dims}
             args[name] = squeeze_point(combined, sorted(fixed))

@@ -114,10 +114,12 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
             ax.plot([], [], "kx", label=f"{hc:g} um level")
         title = f"control curves, {strip}"
         tv = _result(graph, store, "target_velocity")
-        if tv is not None and "intensity_m" in tv:
-            ax.axhline(float(tv.intensity_m) / MM, ls=":", color="k")
-            ax.axvline(float(tv.velocity_m_s), ls=":", color="k")
-            title += f"\ntarget {float(tv.intensity_m) / MM:g} mm -> {float(tv.velocity_m_s):.1f} m/s"
+        if tv is not None and "intensity_m" in tv:  # every target intensity of the study and its velocity
+            targets = zip(np.atleast_1d(tv.intensity_m.values).ravel(), np.atleast_1d(tv.velocity_m_s.values).ravel())
+            for i, v in targets:
+                ax.plot([v], [i / MM], "kx", ms=8)
+                ax.annotate(f"{i / MM:g} mm -> {v:.1f} m/s", (v, i / MM), xytext=(6, -10),
+                            textcoords="offset points", fontsize=8)
         ax.plot([], [], " ", label=f"error bars: std over {n_seq} sequence(s)" if n_seq > 1
                 else "one sequence: no spread")
         ax.set(xlabel="shot velocity (m/s)", ylabel="Almen intensity (mm)", title=title)
@@ -201,4 +203,9 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
                      + ", ".join(w for w in what if w))
         ax.legend(fontsize=8, loc="lower right")
         save(fig, "residual_stress.png")
+    if family:
+        from .map_plots import write_map_plots
+
+        written += write_map_plots(_result(graph, store, "process_map"), _result(graph, store, "suggested_settings"),
+                                   out_dir, save, plt)
     return written

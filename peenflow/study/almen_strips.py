@@ -25,7 +25,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .._toml import load_toml
-from ..methods.measured_strips import StripDataError, StripIntensity, strip_intensity
 from ._csv import CsvFileError, read_commented_csv
 from .errors import suggest
 from .intensity import INCH_MM
@@ -184,21 +183,6 @@ def read_almen_strips(path: Path) -> MeasuredStrips:
         raise AlmenStripsError([f"{path.name} has a header but no data rows; expected one row per strip"])
     return MeasuredStrips(tuple(exposure), EXPOSURE_COLUMNS[ex_col][1], ex_col, tuple(height), tuple(line_no),
                           hashlib.sha256(raw).hexdigest())
-
-
-def almen_strips_intensity(strips: MeasuredStrips, source: str = "") -> StripIntensity:
-    """The intensity of measured strips (the solver of :mod:`peenflow.methods.measured_strips`).
-
-    The saturation exposure comes back in ``strips.exposure_unit`` (s for time);
-    messages show exposures in the file's unit (min for ``time_min``).
-    Raises :class:`AlmenStripsError` where the strips cannot define one, naming
-    the lines (``source``, e.g. the file name, prefixes the message).
-    """
-    labels = [f"line {n}" for n in strips.line] if len(strips.line) == len(strips.exposure) else None
-    try:
-        return strip_intensity(strips.exposure, strips.arc_height_m, labels, strips.shown_as)
-    except StripDataError as exc:
-        raise AlmenStripsError([f"{source}: {exc}" if source else str(exc)]) from None
 
 
 def shop_notation(intensity_m: float, strip: str) -> str:

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from peenflow.cli import main
-from peenflow.study.almen_strips import almen_strips_intensity, read_almen_strips
+from peenflow.study.almen_strips import read_almen_strips
+from tasks.measured_intensity import almen_strips_intensity
 from peenflow.study.intensity import parse_intensity
 
 INCH_MM = 25.4

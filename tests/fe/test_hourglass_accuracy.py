@@ -23,12 +23,12 @@ KIND = {key: kind for key, _, kind in si.QUANTITIES}  # relative error, or a dif
 # relative tolerances (restitution: absolute) at 25 um: the goal of issue 13 §1
 GOAL_25 = dict(dent_um=0.03, dent_radius_mm=0.03, sxx_peak_mpa=0.03, zero_depth_mm=0.03, crest_radius_mm=0.05,
                crest_height_um=0.15, restitution=0.02, profile_rms=0.04)
-# at 50 um the pile-up crest is two elements wide and not resolved (errors of 15-130 %, docs/validation.md 4):
+# at 50 um the pile-up crest is two elements wide and not resolved (errors of 15-130 %, docs/validation.md section 4):
 # the 50 um tests hold the dent, the stress and the rebound
 GOAL_50 = dict(dent_um=0.08, dent_radius_mm=0.08, sxx_peak_mpa=0.08, zero_depth_mm=0.08, restitution=0.02,
                profile_rms=0.08)
 # where the physical element misses the goal: (case, h um, quantity) -> the measured |error| + 0.5 %
-# rounded up to whole per cent (restitution: absolute; hg_over_int: the ratio itself); docs/validation.md 4.
+# rounded up to whole per cent (restitution: absolute; hg_over_int: the ratio itself); docs/validation.md section 4.
 # Measured 2026-12-01 with the surface line interpolated by a makima spline and the sigma_xx column
 # centred on the dent (peenflow/validation/readings.py); every entry is at or below the one it replaces.
 # Crest position and height and the 25 m/s dent's edge are near the sampling limit of a 25 um
@@ -75,13 +75,7 @@ MISSED = {
 }
 
 
-25 / 12.5 / 6.25 um sequence converges cleanly) are those of the stored runs
-(peenflow/validation/data/single_impact.json, made by ``benchmarks/single_impact.py``;
-docs/validation.md section 4). Each test reruns one case at a coarse element size
-with the same setup and metrics and asserts its error. Where the issue's goal
-(13 §1) is met the goal is the tolerance; where it is not, the tolerance is the
-measured error rounded up, named ``MISSED`` so the gap stays visible
-(docs/validation.md section 4).
+# the shot aimed half an element off a node (benchmarks/single_impact.py offsets; docs/validation.md section 4, "Shots
 # between nodes"): the worst aim of the 25 m/s dent for its crest and rebound; its dent, read between
 # nodes, is as far off as aimed at a node (-4.3 %; the deepest node alone read -7.1 %)
 MISSED_BETWEEN_NODES = {
@@ -142,7 +136,7 @@ def test_impacts_at_50um(case):
 def test_surface_metric_on_a_coarser_sampling_of_the_same_line():
     """The metric itself, not the element: each stored 6.25 um surface line taken at every 4th node
     (25 um spacing, each of the 4 offsets) must read the dent radius and the crest radius close to
-    the full line's. The bounds are the measured sampling errors rounded up (docs/validation.md 4): the
+    the full line's. The bounds are the measured sampling errors rounded up (docs/validation.md section 4): the
     dent edge within 3.5 um on average (the straight-line rule read it 3.6-6.2 um too far out), the
     crest within 9 um (4-8 % of its radius, so a 25 um surface cannot show the 5 % goal on every
     case whatever the element)."""
@@ -182,21 +176,17 @@ def test_profile_reading_on_coarser_layers_of_the_same_profile():
     element's mean). Read on the curve recovered from the layer means it stays within 3 % (RMS of
     the peak) of the full profile on every case, below the 4 % goal (measured 0.3-2.7 %); joined
     by straight lines between mid-depths it was 2.5-7.8 % off, at least twice as far, so that
-25 / 12.5 / 6.25 um sequence converges cleanly) are those of the stored runs
-(peenflow/validation/data/single_impact.json, made by ``benchmarks/single_impact.py``;
-docs/validation.md section 4). Each test reruns one case at a coarse element size
-with the same setup and metrics and asserts its error. Where the issue's goal
-(13 §1) is met the goal is the tolerance; where it is not, the tolerance is the
-measured error rounded up, named ``MISSED`` so the gap stays visible
-(docs/validation.md section 4).
+    reading charged the element with most of its 25 um profile error (docs/validation.md section 4)."""
+    rows = rd.profile_sampling_bias(DATA, step=4)
+    assert {r["run"].split("/")[0] for r in rows} == set(si.CASES)
     for r in rows:
         assert r["recovered"] <= 0.03, r
         assert r["lines"] >= 2.0 * r["recovered"], r
 
 
 def test_goals_below_the_resolution_of_the_mesh():
-    """Which of issue 13 §1's goals no element can show at 25 / 50 um (docs/validation.md 4, "Goal by
-    goal"): the converged 6.25 um fields read at that spacing (surface line at every 4th / 8th
+    """Which of issue 13 §1's goals no element can show at 25 / 50 um (docs/validation.md section 4, "Issue 13 §1
+    goal by goal"): the converged 6.25 um fields read at that spacing (surface line at every 4th / 8th
     node from each offset; sigma_xx averaged over 25 / 50 um layers) against themselves in full.
     At 50 um the dent radius reads >= 8 % off on average over where the shot lands on the three SAE
     dents and the crest radius and height on all four cases (measured 9.5-20 %, 15-23 %, 13-29 %);

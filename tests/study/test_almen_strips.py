@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from peenflow.study.almen_strips import (AlmenStripsError, MeasuredStrips, almen_strips_intensity,
-                                         read_almen_strips, shop_notation, strip_types)
+from peenflow.study.almen_strips import AlmenStripsError, MeasuredStrips, read_almen_strips, shop_notation, strip_types
 from peenflow.study.intensity import parse_intensity
+from tasks.measured_intensity import almen_strips_intensity
 
 TEMPLATE = Path(__file__).resolve().parents[2] / "studies" / "data" / "almen_strips_template.csv"
 INCH = 0.0254

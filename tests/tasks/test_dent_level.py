@@ -73,7 +73,7 @@ def test_the_dent_runs_at_its_size_and_the_rev_at_the_study_s(run):
     assert np.allclose(top, H_REV, rtol=1e-9), top
     # the REV ran N_c shots of the coverage curve made from the fine dent
     cov = _open(study, "coverage_curve")
-    assert int(runs.coverage_shots) == int(cov.coverage_shots_rounded.max())
+    assert int(runs.coverage_shots.max()) == int(cov.coverage_shots_rounded.max())
 
 
 def test_the_dent_is_the_one_a_study_at_that_size_computes(run):
