@@ -36,3 +36,33 @@ def stage_nodes(graph: Graph, stage: str):
         return graph.stage_nodes(stage)
     except KeyError:
         raise UserError(f"no stage {stage!r} in study {graph.name!r}; stages: {', '.join(graph.stages)}") from None
+
+
+def _scale(graph, dim: str) -> tuple[float, str]:
+    units = graph.coord_attrs.get(dim, {}).get("units", "1")
+    return {"m": (1e3, " mm"), "Pa": (1e-6, " MPa"), "1": (1.0, "")}.get(units, (1.0, f" {units}"))
+
+
+def _values(graph, dim: str) -> list:
+    return sorted({n.coords[dim] for n in graph.nodes if dim in n.coords})
+
+
+def dim_value(graph, dim: str, value) -> str:
+    """One value of a process dimension as the study gives it: a name, the shop notation, or a number with
+    its unit (mm, MPa)."""
+    a = graph.coord_attrs.get(dim, {})
+    if a.get("flag_meanings"):
+        return a["flag_meanings"].split()[int(value)]
+    if a.get("shop_notation"):
+        return a["shop_notation"].split()[_values(graph, dim).index(value)]
+    scale, unit = _scale(graph, dim)
+    return f"{value * scale:g}{unit}"
+
+
+def dim_values(graph, dim: str) -> str:
+    """All values of a process dimension: names, shop notations, or numbers with their unit once at the end."""
+    a = graph.coord_attrs.get(dim, {})
+    if a.get("flag_meanings") or a.get("shop_notation"):
+        return ", ".join(dim_value(graph, dim, v) for v in _values(graph, dim))
+    scale, unit = _scale(graph, dim)
+    return ", ".join(f"{v * scale:g}" for v in _values(graph, dim)) + unit

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections import Counter
 
-from ._common import add_study, load
+from ._common import add_study, dim_values, load
 
 NAME = "check"
 HELP = "validate a study file and show its stages"
@@ -23,7 +23,7 @@ def main(args) -> int:
         print("process dimensions:")
         for d in dims:
             a = graph.coord_attrs.get(d, {})
-            print(f"  {d}: {_values(graph, d)}  ({a.get('peenflow_study_key', '')})")
+            print(f"  {d}: {dim_values(graph, d)}  ({a.get('peenflow_study_key', '')})")
     levels = graph.labels.get("coverage_levels_percent") or []
     if len(levels) > 1:
         print(f"coverage levels: {', '.join(f'{c:g}' for c in levels)} % (one REV run per sequence reaches them all)")
@@ -31,16 +31,3 @@ def main(args) -> int:
         per = [d for d in dims if any(d in node.coords for node in graph.stage_nodes(stage))]
         print(f"  {stage}: {n}" + (f"  (per {', '.join(per)})" if per else ""))
     return 0
-
-
-def _values(graph, dim: str) -> str:
-    """A dimension's values as the study gives them (names, shop notation, or numbers with units)."""
-    a = graph.coord_attrs.get(dim, {})
-    values = sorted({n.coords[dim] for n in graph.nodes if dim in n.coords})
-    if a.get("flag_meanings"):
-        return ", ".join(a["flag_meanings"].split()[int(v)] for v in values)
-    if a.get("shop_notation"):
-        return ", ".join(a["shop_notation"].split())
-    scale, unit = {"m": (1e3, " mm"), "Pa": (1e-6, " MPa"), "1": (1.0, "")}.get(a.get("units", "1"),
-                                                                             (1.0, f" {a.get('units')}"))
-    return ", ".join(f"{v * scale:g}" for v in values) + unit

@@ -6,7 +6,7 @@ from collections import Counter
 
 from ..engine import plan
 from ..engine.lease import verdict
-from ._common import add_study, load
+from ._common import add_study, dim_value, load
 
 NAME = "status"
 HELP = "what is done, pending, running, failed or stale (--why: the reasons)"
@@ -28,6 +28,13 @@ def print_plan(graph, store, nodes, forced=frozenset(), why=False) -> list:
         counts = Counter(i.state.value for i in its)
         summary = ", ".join(f"{n} {s}" for s, n in sorted(counts.items()))
         print(f"  {stage:{width}s}  {len(its):4d} point(s): {summary}")
+        for dim in graph.labels.get("process_dims") or []:
+            values = sorted({i.node.coords[dim] for i in its if dim in i.node.coords})
+            if len(values) > 1:
+                done = Counter(i.node.coords[dim] for i in its if dim in i.node.coords and i.state.value == "done")
+                total = Counter(i.node.coords[dim] for i in its if dim in i.node.coords)
+                print(f"  {'':{width}s}        by {dim}: " + ", ".join(
+                    f"{dim_value(graph, dim, v)} {done[v]}/{total[v]} done" for v in values))
         if why:
             for i in its:
                 key = i.key[:12] if i.key else "-" * 12

@@ -5,7 +5,8 @@ plots are embedded as PNG data URIs, the style is inline, there is no
 script.  Written after every run beside the plots (:func:`peenflow.report.report_dir`)
 and by ``peenflow report STUDY``.
 
-Sections: the headline numbers (:mod:`peenflow.report.headline`); the figures; one table
+Sections: the headline numbers (:mod:`peenflow.report.headline`); the process map when the study
+has one (:mod:`peenflow.report.map_section`); the figures; one table
 per stage with every point, its sweep values, state, run time, host and
 key, and its full parameters on demand (``<details>``); provenance: the
 peenflow version and code fingerprints, package versions, host(s), study
@@ -88,6 +89,12 @@ def build_report(graph, store, study_path: Path, images: list[Path], headline_ro
     else:
         parts.append("<p>No stage that gives a headline number is done yet.</p>")
 
+    from .map_section import FIGURES, map_section
+    from .reading import stage_or_none
+
+    parts += map_section(stage_or_none(graph, store, "process_map"), stage_or_none(graph, store, "suggested_settings"),
+                         images, _table)
+    images = [img for img in images if Path(img).name not in FIGURES]
     parts.append("<h2 id=\"figures\">Figures</h2>")
     if not images:
         parts.append("<p>No figure yet.</p>")

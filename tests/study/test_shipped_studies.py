@@ -126,3 +126,24 @@ def test_the_literal_studies_are_the_papers_section_4_procedure():
     assert fine.fidelity.extrapolate_intensity_from_um == 40.0
     mine = _point_params("paper_literal.toml", "coarse_strip_runs")
     assert len(mine) == 8 and mine == _point_params("paper_literal_40um.toml", "strip_runs")
+
+
+def test_the_process_map_study_reuses_the_fast_paper_strips_and_maps_two_materials():
+    """studies/process_map_al7075.toml: its strip runs at the paper study's velocities are that study's
+    (same parameters, same upstream: the same keys), only the 15 m/s strips are new; the map's
+    dimensions are 3 intensities x 2 materials, with coverage levels 100 / 200 / 400 % from one run."""
+    from peenflow.engine.canonical import canonical_json
+
+    def strips(name):
+        graph = peenflow.api.load_study_graph(STUDIES / name)
+        return graph, {(canonical_json(n.coords), canonical_json(n.params)) for n in graph.stage_nodes("strip_runs")}
+
+    paper, paper_strips = strips("paper_fast_extrapolated.toml")
+    mapped, map_strips = strips("process_map_al7075.toml")
+    assert paper_strips < map_strips
+    new = map_strips - paper_strips
+    assert new and all('"velocity_m_s":15}' in coords for coords, _ in new)
+    assert mapped.labels["process_dims"] == ["almen_intensity_m", "target_material"]
+    assert mapped.labels["coverage_levels_percent"] == [100.0, 200.0, 400.0]
+    assert len(mapped.stage_nodes("target_runs")) == 3 * 2 * 2  # intensities x materials x sequences
+    assert {"process_map", "suggested_settings"} <= set(mapped.stages)

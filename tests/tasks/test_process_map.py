@@ -15,6 +15,7 @@ import pytest
 import xarray as xr
 
 import peenflow
+import peenflow.api
 from peenflow.study import load_study
 from peenflow.testing import assert_cf_variables
 from tasks._rev_run import run_rev
@@ -84,6 +85,10 @@ def test_a_coverage_list_costs_one_rev_run_per_intensity_and_sequence(mapped):
     check = cli("check", study).stdout
     assert re.search(r"target_runs: 2\s+\(per almen_intensity_m\)", check)
     assert "almen_intensity_m: 0.3, 0.38 mm" in check and "coverage levels: 100, 200 %" in check
+    # status counts the points per dimension
+    status = cli("status", study).stdout
+    assert re.search(r"target_runs\s+2 point\(s\): 2 done\n\s+by almen_intensity_m: 0.3 mm 1/1 done, 0.38 mm 1/1 done",
+                     status), status
 
 
 def test_the_largest_level_equals_a_separate_run_to_that_coverage(mapped):
@@ -185,6 +190,25 @@ def test_a_requirement_met_names_the_least_coverage_and_one_not_met_the_closest_
     assert "none meets" in out and "compressive_depth_mm misses by" in s.attrs["verdict"]
     # the closest point is the deepest layer: its miss is (5 mm - that depth) / 5 mm
     assert float(s.requirement_margin.min()) == pytest.approx((deepest - 5e-3) / 5e-3, rel=1e-9)
+
+
+def test_the_report_has_a_process_map_section(mapped):
+    """report.html: the map's figures, one feature row per point and coverage level in MPa / mm / shop
+    notation, and the suggestion with each requirement's margin."""
+    from peenflow.report import report_dir
+
+    study, _ = mapped
+    page = (report_dir(peenflow.api.open_store(study), study) / "report.html").read_text()
+    section = page[page.index('<h2 id="process-map">'):page.index('<h2 id="figures">')]
+    assert section.count("data:image/png;base64,") == 2  # map_profiles.png, map_features.png
+    assert "map_profiles.png" not in page[page.index('<h2 id="figures">'):]  # shown once, in its section
+    pmap = peenflow.open_result(study, "process_map").load()
+    rows = re.findall(r"<tr><td>([^<]*)</td>", section)
+    assert len([r for r in rows if r.endswith(" %")]) == pmap.sizes["almen_intensity_m"] * pmap.sizes["coverage_percent"]
+    first = pmap.isel(almen_intensity_m=0, coverage_percent=0)
+    assert f"{float(first.peak_compressive_xx_Pa) / 1e6:.0f}" in section  # MPa
+    assert f"{float(first.compressive_depth_xx_m) * 1e3:.3f}" in section  # mm
+    assert "unmeasured" in section and "Suggested settings" in section and "margin to its bound" in section
 
 
 @pytest.mark.parametrize("old, new, expected", [
