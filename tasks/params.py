@@ -414,7 +414,9 @@ class TargetPlan:
     """The target side of the graph (``[target]``) beyond :class:`TargetParams`: the coverage levels
     ``coverage_levels_percent`` (%, ascending: one REV run per sequence reaches them all), ``sequences`` REV
     runs with shot streams ``seeds``, the part's ``thickness_m`` and the REV's ``rev_thickness_m`` (m; with
-    ``rev_thickness_auto`` the most the convergence check may return)."""
+    ``rev_thickness_auto`` the most the convergence check may return); ``intensity_source``: where the target
+    intensity came from when it was not given as a number (measured strips: the file, the fit and its verdict;
+    recorded on the velocity's result), else ""."""
 
     coverage_levels_percent: tuple[float, ...]
     sequences: int
@@ -422,6 +424,7 @@ class TargetPlan:
     thickness_m: float
     rev_thickness_m: float
     rev_thickness_auto: bool
+    intensity_source: str = ""
 
 
 @dataclass(frozen=True)
@@ -518,8 +521,9 @@ def study_params(study) -> StudyParams:
     if (t := study.target) is not None:
         target_material = MaterialParams.from_study(t.material)
         given = t.velocity_m_s is not None
+        intensity_m, source = _target_intensity(study, t)
         target = TargetParams(
-            angle_deg=t.angle_deg, velocity_m_s=t.velocity_m_s, intensity_m=None if given else t.intensity_mm * MM,
+            angle_deg=t.angle_deg, velocity_m_s=t.velocity_m_s, intensity_m=intensity_m,
             rule=t.control_angle_rule, interpolation=None if given else study.almen.interpolation,
             allow_extrapolated=bool(study.almen and study.almen.allow_extrapolated_intensity))
         rev_thickness_m = t.rev_thickness_given_mm * MM
@@ -529,7 +533,8 @@ def study_params(study) -> StudyParams:
         measured = t.measured_profile
         target_plan = TargetPlan(coverage_levels_percent=t.coverage_levels_percent, sequences=t.sequences,
                                  seeds=tuple(study.seeds.seeds("target", t.sequences)), thickness_m=t.thickness_mm * MM,
-                                 rev_thickness_m=rev_thickness_m, rev_thickness_auto=t.rev_thickness_auto)
+                                 rev_thickness_m=rev_thickness_m, rev_thickness_auto=t.rev_thickness_auto,
+                                 intensity_source=source)
     f = study.fidelity
     fidelity = FidelityParams.from_study(f)
     levels = FidelityLevels(f.describe(), f.element_size_um, f.lateral_boundary, f.extrapolate_intensity_from_um,
@@ -558,6 +563,31 @@ def study_params(study) -> StudyParams:
         threads=ex.threads_per_worker if isinstance(ex.threads_per_worker, int) else None, names=names,
         extrapolation=extrapolation, coarse_fidelity=coarse_fidelity, dent_fidelity=dent_fidelity,
         dent_core_element_size_m=dent_core)
+
+
+def _target_intensity(study, t) -> tuple[float | None, str]:
+    """The target intensity (m; None with a given velocity) and where it came from ("" for a number in the
+    file). Measured strips (``target.almen_strips_csv``) are solved here by SAE J2597
+    (:func:`tasks.measured_intensity.almen_strips_intensity`); strips no fit can use raise
+    :class:`peenflow.study.StudyError` naming the key, before compute."""
+    if t.velocity_m_s is not None:
+        return None, ""
+    if t.almen_strips is None:
+        return t.intensity_mm * MM, ""
+    from peenflow.study import StudyError
+    from peenflow.study.almen_strips import AlmenStripsError, shop_notation
+
+    from .measured_intensity import almen_strips_intensity
+
+    name = Path(t.almen_strips_csv).name
+    try:
+        fit = almen_strips_intensity(t.almen_strips, name)
+    except AlmenStripsError as exc:
+        raise StudyError(study.path, [f"target.almen_strips_csv: {p}" for p in exc.problems]) from None
+    return fit.intensity_m, (f"measured strips {name} (sha256 {t.almen_strips.sha256[:12]}): "
+                             f"{fit.intensity_m / MM:.4f} mm = {shop_notation(fit.intensity_m, t.almen_strip)} by "
+                             f"the {fit.model} fit of {fit.n_strips} strips at {fit.n_exposures} exposures"
+                             f"{'' if fit.qualified else ' (NOT QUALIFIED)'}; {fit.reason}")
 
 
 def _mm(value: float | None) -> float | None:

@@ -221,6 +221,8 @@ def _add_point(g: Graph, p: StudyParams):
         tmat = {"material": p.target_material, **kernel}
         given = p.target.velocity_m_s is not None
         vel = g.add(target_velocity, upstream={} if given else {"control": control}, params={"target": p.target})
+        if t.intensity_source:  # measured strips: which fit made the intensity
+            vel.result_attrs["peenflow_target_intensity_source"] = t.intensity_source
         # the dent's impact at its own element size (fidelity.dent_element_size_um; the study's by default)
         core = {} if p.dent_core_element_size_m is None else {"core_element_size_m": p.dent_core_element_size_m}
         imp_t = g.add(single_impact, upstream={"velocity": vel}, stage="target_impact", params={

@@ -73,7 +73,7 @@ def study_problems(path: str | Path) -> list[str]:
     if found:
         return found
     study = load_study(path)
-    try:
+    try:  # study_params refuses measured strips no fit can use
         check_before_compute(study, study_params(study))
     except StudyError as exc:
         return exc.problems

@@ -35,6 +35,7 @@ from .bounds import bound_keys, check_bounds
 from .errors import Problem, StudyError, format_value, suggest, translate
 from .fidelity import REMOVED_KEYS, Fidelity, expand_preset
 from .items import Material, Shot, Strip
+from .almen_strips import AlmenStripsError, read_almen_strips
 from .measured_profile import PROFILE_COMPONENTS, ProfileError, read_measured_profile
 from .model import Study, StudyInfo
 from .requirements import FEATURES, MINIMISE_SHOTS, Requirements
@@ -224,9 +225,9 @@ class _Loader:
 
         # Paths in a file are relative to that file, whoever extends it.
         target = data.get("target")
-        if isinstance(target, dict) and isinstance(target.get("measured_profile_csv"), str):
-            if target["measured_profile_csv"]:
-                target["measured_profile_csv"] = str((file.parent / target["measured_profile_csv"]).resolve())
+        for csv_key in ("measured_profile_csv", "almen_strips_csv"):
+            if isinstance(target, dict) and isinstance(target.get(csv_key), str) and target[csv_key]:
+                target[csv_key] = str((file.parent / target[csv_key]).resolve())
 
         info = {k: table[k] for k in ("name", "description", "extends", "allow_outside_bounds") if k in table}
         raw = _Raw(data=data, info=info, includes=includes, chain=[file])
@@ -537,7 +538,8 @@ class _Loader:
             self.add("", "nothing to compute: add an [almen] section (control curves) and/or a [target] section")
         if target is not None:
             uses_curve = target.velocity_m_s is None
-            key = "target.almen_intensity" if target.almen_intensity is not None else "target.almen_intensity_mm"
+            key = ("target.almen_intensity" if target.almen_intensity is not None else
+                   "target.almen_strips_csv" if target.almen_strips_csv else "target.almen_intensity_mm")
             if uses_curve and almen is None and "almen" not in failed:
                 self.add(key, "a target intensity needs control curves: add an [almen] section, or give "
                          "target.velocity_m_s instead")
@@ -556,6 +558,8 @@ class _Loader:
                              value=target.angle_deg)
             if target.measured_profile_csv:
                 self.check_profile(Path(target.measured_profile_csv), target)
+            if target.almen_strips_csv:
+                self.check_strips(Path(target.almen_strips_csv), target)
         if fidelity is not None and shot is not None:
             if fidelity.element_size_um * UM >= 0.5 * shot.diameter_mm * MM:
                 self.add("fidelity.element_size_um", "an element as large as the "
@@ -567,6 +571,20 @@ class _Loader:
                 key = "fidelity.fine_depth_mm" if fidelity.fine_depth_mm is not None else "fidelity.fine_depth_D"
                 self.add(key, f"the fine zone ({depth_mm * MM / UM:g} um deep) is thinner than one element "
                          f"({fidelity.element_size_um:g} um); expected at least one element")
+
+    def check_strips(self, file: Path, target: Target) -> None:
+        """Read the measured strips once; the target keeps them (their intensity is solved with the stage
+        parameters, and a set no fit can use is refused there, before compute)."""
+        key = "target.almen_strips_csv"
+        if not file.is_file():
+            self.add(key, "measured strips not found; expected an existing CSV file (or \"\" for none)",
+                     value=str(file))
+            return
+        try:
+            target._strips = read_almen_strips(file)
+        except AlmenStripsError as exc:
+            for problem in exc.problems:
+                self.add(key, problem)
 
     def check_profile(self, file: Path, target: Target) -> None:
         """Parse the measured profile once; the target keeps it (the pipeline

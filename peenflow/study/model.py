@@ -15,6 +15,7 @@ from pydantic import Field, PrivateAttr, model_validator
 
 from .canonical import canonical, canonical_json
 from .fidelity import Fidelity, expand_preset
+from .almen_strips import AlmenStripsError, read_almen_strips
 from .measured_profile import ProfileError, read_measured_profile
 from .sections import Almen, Coverage, Dmin, Execution, Seeds, ShotSection, Target
 from .types import Name, StudyModel
@@ -83,6 +84,11 @@ class Study(StudyModel):
                 self.target._measured = read_measured_profile(Path(self.target.measured_profile_csv))
             except (OSError, ProfileError) as exc:
                 raise ValueError(f"target.measured_profile_csv: {exc}") from None
+        if self.target is not None and self.target.almen_strips_csv and self.target.almen_strips is None:
+            try:
+                self.target._strips = read_almen_strips(Path(self.target.almen_strips_csv))
+            except AlmenStripsError as exc:
+                raise ValueError(f"target.almen_strips_csv: {'; '.join(exc.problems)}") from None
         return self
 
     @model_validator(mode="after")
@@ -135,6 +141,8 @@ class Study(StudyModel):
             target["almen_strip"] = self.target.intensity_strip
             target.pop("measured_profile_csv")
             target["measured_profile_sha256"] = self.target.measured_profile_sha256
+            if target.pop("almen_strips_csv"):  # the strips by their content
+                target["almen_strips_sha256"] = self.target.almen_strips.sha256
         return canonical(out)
 
     def canonical_json(self) -> str:

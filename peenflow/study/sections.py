@@ -17,6 +17,7 @@ from pydantic import AfterValidator, Field, PrivateAttr, StrictBool, WrapValidat
 
 from .intensity import parse_intensity
 from .items import Material, Shot, Strip
+from .almen_strips import MeasuredStrips
 from .measured_profile import MeasuredProfile
 from .types import (
     Angle, OpenFraction, Positive, PositiveInt, ShotScaled, StudyModel, Velocity, check,
@@ -320,6 +321,9 @@ class Target(ShotScaled):
     velocity_m_s: Optional[Velocity] = Field(
         None, description="shot velocity in m/s; bypasses the control curve (instead of an intensity)"
     )
+    almen_strips_csv: str = Field(
+        "", description="CSV of measured Almen strips (exposures and arc heights): the target intensity is "
+                        "theirs by SAE J2597, with almen_strip (\"\" = none)")
     coverage_percent: Annotated[Any, AfterValidator(_coverage_levels)] = Field(
         description="coverage in percent, e.g. 200, or a list of levels, e.g. [100, 200, 400] (one REV run per "
                     "sequence, snapshotted at each level)")
@@ -337,17 +341,21 @@ class Target(ShotScaled):
     )
 
     _measured: Optional[MeasuredProfile] = PrivateAttr(default=None)
+    _strips: Optional[MeasuredStrips] = PrivateAttr(default=None)
 
     @model_validator(mode="after")
     def _consistent(self) -> "Target":
         given = [k for k in ("almen_intensity", "almen_intensity_mm", "velocity_m_s") if getattr(self, k) is not None]
+        given += ["almen_strips_csv"] if self.almen_strips_csv else []
         if len(given) != 1:
             raise ValueError(
                 "give exactly one of target.almen_intensity (e.g. \"12A\"), target.almen_intensity_mm "
-                f"(with almen_strip) or target.velocity_m_s; got {', '.join(given) if given else 'none'}"
+                "(with almen_strip), target.almen_strips_csv (with almen_strip) or target.velocity_m_s; got "
+                f"{', '.join(given) if given else 'none'}"
             )
-        if self.almen_intensity_mm is not None and self.almen_strip is None:
-            raise ValueError('target.almen_intensity_mm needs target.almen_strip (e.g. "A")')
+        for key in ("almen_intensity_mm", "almen_strips_csv"):
+            if getattr(self, key) and self.almen_strip is None:
+                raise ValueError(f'target.{key} needs target.almen_strip (e.g. "A")')
         if self.almen_intensity is not None and self.almen_strip is not None:
             letter = parse_intensity(self.almen_intensity)[1]
             if letter != self.almen_strip:
@@ -382,8 +390,15 @@ class Target(ShotScaled):
         return self._measured.sha256 if self._measured is not None else ""
 
     @property
+    def almen_strips(self) -> Optional[MeasuredStrips]:
+        """The measured strips as read when the study was loaded (None if none): their intensity, by the
+        SAE J2597 solver, is the target's (resolved with the stage parameters, :mod:`tasks.params`)."""
+        return self._strips
+
+    @property
     def intensity_mm(self) -> float | None:
-        """Target Almen intensity (saturation arc height) in mm; None with a velocity override."""
+        """Target Almen intensity (saturation arc height) in mm; None with a velocity override or measured
+        strips (whose intensity the solver gives)."""
         if self.almen_intensity is not None:
             return parse_intensity(self.almen_intensity)[0]
         return self.almen_intensity_mm

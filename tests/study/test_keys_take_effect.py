@@ -79,6 +79,8 @@ CHANGES = {
                                {"target.measure_size_mm": 1.4}),
     "Target.rev_thickness_mm": ({}, {"target.rev_thickness_mm": 3.0}),
     "Target.measured_profile_csv": ({}, {"target.measured_profile_csv": "measured.csv"}),
+    "Target.almen_strips_csv": ({"target.almen_intensity": DELETE, "target.almen_strips_csv": "strips_a.csv",
+                                 "target.almen_strip": "A"}, {"target.almen_strips_csv": "strips_b.csv"}),
     "Fidelity.preset": ({}, {"fidelity.preset": "standard"}),
     "Fidelity.element_size_um": ({}, {"fidelity.element_size_um": 50.0}),
     "Fidelity.fine_depth_D": ({}, {"fidelity.fine_depth_D": 0.9}),
@@ -162,6 +164,9 @@ def test_every_field_is_classified():
 @pytest.mark.parametrize("field", sorted(CHANGES))
 def test_changing_a_key_changes_some_stage(field, tmp_path):
     (tmp_path / "measured.csv").write_text("depth_mm,stress_MPa,component\n0.05,-300,xx\n")
+    for name, saturated_mm in (("strips_a.csv", 0.30), ("strips_b.csv", 0.34)):  # two exact exp2 strip sets
+        rows = [f"{t:g},{saturated_mm / 0.9 * (1 - 0.1 ** (t / 4)):.6f}" for t in (1, 2, 4, 8, 16)]
+        (tmp_path / name).write_text("time_min,arc_height_mm\n" + "\n".join(rows) + "\n")
     base_changes, change = CHANGES[field]
     base = _write(tmp_path, "base", base_changes)
     changed = _write(tmp_path, "changed", {**base_changes, **change})
