@@ -31,7 +31,7 @@ from . import _kernel as K
 from ._common import COMPONENT_LONG_NAME, depth, labels, var
 from .arc_height import release
 from .outputs import Output, Outputs
-from .params import FidelityParams, LadderParams, MaterialParams, ShotParams
+from .params import FidelityParams, LadderParams, MaterialParams, ShotParams, StreamParams
 from .saturation import MODELS
 
 CHECKPOINT_EVERY_S = float(os.environ.get("PEENFLOW_CHECKPOINT_EVERY_S", "30"))
@@ -56,18 +56,24 @@ RUN = Outputs(
     ladder_saturation_shots=Output((), "1", "saturation point T of this sequence's own rungs, the stop rule's",
                                    optional=True),
     hit_fraction=Output((), "1", "fraction of shots that touched the REV"),
+    shot_diameter_m=Output(("impact",), "m", "diameter of each shot, in arrival order (the nominal one without "
+                                             "shot.diameter_spread_percent)"),
+    impact_speed_m_s=Output(("impact",), "m s-1", "speed of each shot before its impact, in arrival order"),
 )
 
 
 def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: FidelityParams, side_m: float,
             measure_side_m: float, thickness_m: float, angle_deg: float, velocity_m_s: float, seed: int,
-            ladder: list, extend: LadderParams | None = None, sequence_shots: int | None = None) -> xr.Dataset:
+            ladder: list, extend: LadderParams | None = None, sequence_shots: int | None = None,
+            stream: StreamParams | None = None) -> xr.Dataset:
     """The run (module docstring); ``ladder``: the rungs, or with ``extend`` ignored.
 
     ``sequence_shots``: the length of the sequence the shots are drawn from (default: the last rung). A
     longer sequence run only to the last rung is that sequence stopped there: its rungs are the ones a
     run through the whole sequence snapshots (the first n arrivals of one stream,
     :mod:`peenflow.methods.shot_stream`).
+
+    ``stream``: the shots' size and speed spreads (None: every shot nominal).
 
     ``extend`` (a strip ladder that extends itself, ``almen.shot_counts = "auto"``):
     its first and largest shot counts, the saturation fit (``almen.saturation_fit``)
@@ -84,8 +90,10 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
     z_edges = mesh.z
     half = 0.5 * side_m
     region = (-0.5 * measure_side_m, 0.5 * measure_side_m, -0.5 * measure_side_m, 0.5 * measure_side_m)
-    stream = shot_stream(max(ladder[-1], sequence_shots or 0), shot.radius_m, half, half, angle_deg, velocity_m_s,
-                         seed)
+    spreads_of = {} if stream is None else {"diameter_spread": stream.diameter_spread,
+                                            "velocity_spread": stream.velocity_spread}
+    shots_all = shot_stream(max(ladder[-1], sequence_shots or 0), shot.radius_m, half, half, angle_deg, velocity_m_s,
+                            seed, **spreads_of)
     target = fidelity.boundary(mesh)
     material_k = material.to_kernel()
     options = fidelity.options(shot, ctx.threads if ctx else 1)
@@ -136,7 +144,8 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
         if n not in means:
             # the rung's shots are the first n of the stream; they scale its relaxation's rest
             # criteria, as for a run of exactly these shots
-            shots = shot.shots(stream.centres[:n], stream.velocities[:n])
+            shots = shot.shots(shots_all.centres[:n], shots_all.velocities[:n],
+                               shots_all.radii[:n] if shots_all.spread else None)
             with K.in_study_terms():
                 for i in range(impacts.shots_done, n):
                     impacts.impact(shots, i)
@@ -168,7 +177,9 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
          "stress_yy_Pa": mean[:, :, 1], "plastic_strain_mean": np.array([plastic[n] for n in run]),
          "restitution": records["restitution"], "peak_force_N": records["peak_force"],
          "energy_error": records["energy_error"], "hourglass_peak": records["hourglass_peak"], **ladder_vars,
-         "hit_fraction": float(hit.mean()) if hit.size else 0.0},
+         "hit_fraction": float(hit.mean()) if hit.size else 0.0,
+         "shot_diameter_m": 2.0 * shots_all.radii[:hit.size],
+         "impact_speed_m_s": np.sqrt(records["vin_x"] ** 2 + records["vin_y"] ** 2 + records["vin_z"] ** 2)},
         coords={"shots": var(np.array(run), ("shots",), "1", "number of shots N (rung of the ladder)"),
                 "component": labels(VOIGT, "component", COMPONENT_LONG_NAME),
                 "z_edge_m": depth(z_edges, "z_edge", "layer boundary depth below the peened surface"),

@@ -167,10 +167,30 @@ class ShotParams(StageParams):
         centre = np.array([landing_xy[0], landing_xy[1], -self.radius_m]) - gap / u[2] * u
         return centre, speed * u
 
-    def shots(self, centres, velocities) -> Shots:
-        """The kernel's shots: centres (n, 3) m, velocities (n, 3) m s-1."""
+    def shots(self, centres, velocities, radii=None) -> Shots:
+        """The kernel's shots: centres (n, 3) m, velocities (n, 3) m s-1, and each shot's radius (n,) m
+        where a stream has a size spread (None: every shot ``radius_m``)."""
         return Shots(np.asarray(centres, float).reshape(-1, 3), np.asarray(velocities, float).reshape(-1, 3),
-                     self.radius_m, self.density_kg_m3)
+                     self.radius_m if radii is None else np.asarray(radii, float), self.density_kg_m3)
+
+
+@dataclass(frozen=True)
+class StreamParams(StageParams):
+    """How a REV run's shots scatter (``[shot]`` spreads): ``diameter_spread`` and ``velocity_spread``,
+    relative standard deviations (1) of each shot's diameter and speed about the nominal ones (0: the
+    paper's stream of identical shots; :func:`peenflow.methods.shot_stream`)."""
+
+    diameter_spread: float
+    velocity_spread: float
+
+    @classmethod
+    def from_study(cls, shot) -> "StreamParams":
+        """From a study's ``[shot]`` section (per cent there)."""
+        return cls(shot.diameter_spread_percent / 100.0, shot.velocity_spread_percent / 100.0)
+
+    @property
+    def any(self) -> bool:
+        return self.diameter_spread > 0.0 or self.velocity_spread > 0.0
 
 
 @dataclass(frozen=True)
@@ -455,6 +475,8 @@ class StudyParams:
     name: str
     path: Path
     shot: ShotParams
+    #: the REV runs' shot scatter (size and speed spreads)
+    stream: StreamParams
     fidelity: FidelityParams
     dmin: DminParams
     strip_material: MaterialParams | None
@@ -555,7 +577,8 @@ def study_params(study) -> StudyParams:
     names = {"shot": study.shot.name, "strip": a.strip.name if a is not None else None,
              "target_material": t.material.name if t is not None else None}
     return StudyParams(
-        name=study.name, path=Path(study.path), shot=shot, fidelity=fidelity,
+        name=study.name, path=Path(study.path), shot=shot, stream=StreamParams.from_study(study.shot),
+        fidelity=fidelity,
         dmin=DminParams.from_study(study.dmin), strip_material=strip_material, strip=strip, strip_rev=strip_rev,
         ladder=ladder, sequences=sequences, coverage=coverage, target_material=target_material, target=target,
         target_rev=target_rev, plate=plate, measured=measured, strips=strips, target_plan=target_plan,

@@ -32,6 +32,7 @@ from peenflow.engine.growth import Grow
 from peenflow.study import StudyError, load_study
 from peenflow.study.accuracy import statement as fidelity_statement
 from peenflow.study.accuracy import target_error_basis, target_point_error
+from peenflow.study.variants import SENSITIVITY_DIM
 
 from ._common import SWEEP_COORDS
 from .arc_height import arc_height
@@ -42,6 +43,7 @@ from .indentation import indentation
 from .intensity_extrapolation import intensity_extrapolation
 from .params import StripSweep, StudyFamily, StudyParams, requirements_params, study_family
 from .process_map import process_map
+from .sensitivity import sensitivity
 from .suggested_settings import suggested_settings
 from .preflight import check_before_compute
 from .residual_profile import residual_profile
@@ -89,6 +91,8 @@ STAGES: dict[str, str] = {
     "process_map": "[target] with lists, [targets.NAME], [sweep], coverage levels or [requirements]: the profiles "
                    "and their features over every process dimension, in one Dataset",
     "suggested_settings": "[requirements]: the settings that meet every requirement with the least of minimise",
+    "sensitivity": "[sensitivity]: each input's change of the part's velocity and profile features against the "
+                   "study as written",
 }
 
 
@@ -113,7 +117,8 @@ def graph_for_family(f: StudyFamily) -> Graph:
     Each combination of the process dimensions is built in turn; a point that a dimension does not reach
     is one point, shared by every combination (engine.Graph.variant), and carries the values of the
     dimensions that do reach it. With process dimensions or coverage levels, ``process_map`` lays the
-    profiles and their features on one grid; with ``[requirements]``, ``suggested_settings`` reads it."""
+    profiles and their features on one grid; with ``[requirements]``, ``suggested_settings`` reads it, and with
+    ``[sensitivity]``, ``sensitivity``."""
     first = f.first
     g = Graph(first.name)
     g.coord_attrs = {**SWEEP_COORDS, **{d.name: dim_attrs(d) for d in f.dims}}
@@ -136,6 +141,8 @@ def graph_for_family(f: StudyFamily) -> Graph:
         if f.requirements is not None:
             g.add(suggested_settings, upstream={"process_map": pmap},
                   params={"requirements": requirements_params(f.requirements, f.dims)})
+        if any(d.name == SENSITIVITY_DIM for d in f.dims):
+            g.add(sensitivity, upstream={"process_map": pmap})
     g.execution = {k: v for k, v in (("workers", first.workers), ("threads", first.threads)) if v is not None}
     unknown = set(g.stages) - set(STAGES)
     if unknown:  # a programming error: a stage added without its name in STAGES
@@ -251,7 +258,7 @@ def _add_point(g: Graph, p: StudyParams):
             "settings": p.coverage, "angle_deg": angle_deg, "coverage_levels_percent": list(t.coverage_levels_percent)})
         runs_t = g.sweep(target_runs, dims={"sequence": list(range(t.sequences))},
                          upstream={"rev": rev_t, "velocity": vel, "coverage": cov},
-                         params={**tmat, "angle_deg": angle_deg},
+                         params={**tmat, "angle_deg": angle_deg, **({"stream": p.stream} if p.stream.any else {})},
                          point_params=lambda c: {"seed": t.seeds[c["sequence"]]})
         # The release is that of a plate peened on one whole face; the stage
         # applies it only when the REV spans the part's thickness.
@@ -285,10 +292,12 @@ def _strip_level(g: Graph, p: StudyParams, rev, fidelity, prefix: str = ""):
     sweep = _strip_sweep(strips)
     # the ladder extends itself (tasks/strip_runs.py), or a given one keeps its keys
     ladder = {"extend": p.ladder} if p.ladder is not None else {"shot_counts": list(strips.shot_counts)}
+    # the REV runs alone see the stream's spreads (a study without them keeps the keys it had)
+    spreads = {"stream": p.stream} if p.stream.any else {}
     # adaptive sequences: each point grows its sequences until the intensity's error is small enough
     grow = None if p.sequences is None else Grow("sequence", p.sequences.start, sequences_rule(p.sequences))
     runs = g.sweep(strip_runs, dims={**sweep, "sequence": list(range(strips.sequences_cap))}, upstream={"rev": rev},
-                   params={**smat, **ladder}, stage=prefix + "strip_runs",
+                   params={**smat, **ladder, **spreads}, stage=prefix + "strip_runs",
                    point_params=lambda c: {"seed": strips.seeds[c["sequence"]]}, grow=grow)
     arc = g.sweep(arc_height, dims=sweep, upstream={"runs": runs}, params={"strip": p.strip},
                   stage=prefix + "arc_height")

@@ -20,6 +20,7 @@ from peenflow.fe.mesh import uniform_lateral_step_bound
 from peenflow.fe.periodic import contact_reach
 from peenflow.fe.shots import sphere_mass
 from peenflow.fe.window import contact_estimate
+from peenflow.methods import largest_factor
 from peenflow.study import StudyError, load_study, validate_study
 from peenflow.study.bounds import ELEMENTS_PER_CONTACT_RADIUS_MAX
 from peenflow.study.errors import Problem, format_value
@@ -47,6 +48,16 @@ def periodic_contact_half(shot: ShotParams, material: MaterialParams, speed: flo
     t = contact_estimate(shot.radius_m, sphere_mass(shot.radius_m, shot.density_kg_m3), speed * math.sin(a),
                          material.youngs_modulus_Pa, material.poisson_ratio, material.A_Pa)[1]
     return contact_reach(shot.radius_m, t, speed * math.cos(a), element)
+
+
+def _extreme(p: StudyParams, largest: bool) -> tuple[ShotParams, float]:
+    """(the smallest or largest shot a stream can draw, its speed factor): the nominal shot without
+    spreads; with them the truncated normals' extremes (:func:`peenflow.methods.largest_factor`)."""
+    d, v = largest_factor(p.stream.diameter_spread), largest_factor(p.stream.velocity_spread)
+    d, v = (d, v) if largest else (2.0 - d, 2.0 - v)
+    if d == 1.0:
+        return p.shot, v
+    return ShotParams(p.shot.radius_m * d, p.shot.density_kg_m3, p.shot.friction_coefficient), v
 
 
 def problems(study, p: StudyParams) -> list[Problem]:
@@ -104,9 +115,11 @@ def _element_size_in_contact_radii(study, p: StudyParams, allowed: set) -> list[
         if key in allowed:
             continue
         worst = None
+        shot, slow = _extreme(p, largest=False)  # the smallest, slowest shot makes the smallest contact
         for velocities, material, where in _impacts(study, p, strips_only):
             for v in velocities:
-                a = contact_radius(p.shot, material, v)
+                v = v * slow
+                a = contact_radius(shot, material, v)
                 if worst is None or h / a > worst[0]:
                     worst = (h / a, v, a, where)
         if worst is not None and worst[0] > ELEMENTS_PER_CONTACT_RADIUS_MAX:
@@ -139,16 +152,20 @@ def _periodic_rev_fits_a_contact(study, p: StudyParams) -> list[Problem]:
             cases = []
         sides.append(("target", study.target.rev_size_mm, p.target_rev.side_m, p.fidelity.element_size_m,
                       p.target_material, cases))
+    shot, fast = _extreme(p, largest=True)  # the largest, fastest shot makes the widest contact zone
+    big = f"the stream's largest shot has D = {shot.diameter_m / MM:.4g} mm at {fast:.3g} x the velocity; " \
+        if p.stream.any else ""
     for name, size_mm, side, h, material, cases in sides:
         step = uniform_lateral_step_bound(side, h)  # the REV's own lateral step: the side in whole elements
         for v, angle in cases:
-            half = periodic_contact_half(p.shot, material, v, angle, step)
+            v = v * fast
+            half = periodic_contact_half(shot, material, v, angle, step)
             if side <= 2.0 * half:
-                travel = 2.0 * half - 1.25 * p.shot.diameter_m - 4.0 * step
+                travel = 2.0 * half - 1.25 * shot.diameter_m - 4.0 * step
                 out.append(Problem(
                     f"{name}.rev_size_mm",
                     'with fidelity.lateral_boundary = "periodic" the REV side must exceed 1.25 D + 4 elements '
-                    f"({step / UM:.4g} um: {h / UM:g} um fitted to the side) + twice the tangential travel during "
+                    f"({big}{step / UM:.4g} um: {h / UM:g} um fitted to the side) + twice the tangential travel during "
                     f"the contact ({travel / MM:.3g} mm at {v:g} m/s, {angle:g} deg) = {2.0 * half / MM:.3g} mm "
                     "(a shot's contact zone must fit in half a period)", None, format_value(size_mm)))
                 break  # one message per REV: its worst case is what to fix

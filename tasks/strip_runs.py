@@ -17,7 +17,7 @@ import xarray as xr
 
 from ._common import peening_task
 from ._rev_run import RUN, run_rev
-from .params import FidelityParams, LadderParams, MaterialParams, ShotParams
+from .params import FidelityParams, LadderParams, MaterialParams, ShotParams, StreamParams
 from .rev_size import OUTPUTS as REV
 
 OUTPUTS = RUN.derive("strip_runs")
@@ -26,7 +26,8 @@ OUTPUTS = RUN.derive("strip_runs")
 @peening_task(version="1")
 def strip_runs(rev: xr.Dataset, *, material: MaterialParams, shot: ShotParams, fidelity: FidelityParams,
                angle_deg: float, velocity_m_s: float, sequence: int, seed: int, shot_counts: list | None = None,
-               extend: LadderParams | None = None, ctx=None) -> xr.Dataset:
+               extend: LadderParams | None = None, stream: StreamParams | None = None, ctx=None) -> xr.Dataset:
     return run_rev(ctx, material=material, shot=shot, fidelity=fidelity, side_m=REV.rev_side_m.read(rev),
                    measure_side_m=REV.measure_side_m.read(rev), thickness_m=REV.thickness_m.read(rev),
-                   angle_deg=angle_deg, velocity_m_s=velocity_m_s, seed=seed, ladder=shot_counts, extend=extend)
+                   angle_deg=angle_deg, velocity_m_s=velocity_m_s, seed=seed, ladder=shot_counts, extend=extend,
+                   stream=stream)

@@ -19,7 +19,7 @@ from ._common import peening_task, var
 from ._rev_run import RUN, run_rev
 from .coverage_curve import OUTPUTS as COVERAGE
 from .outputs import Output
-from .params import FidelityParams, MaterialParams, ShotParams
+from .params import FidelityParams, MaterialParams, ShotParams, StreamParams
 from .rev_size import OUTPUTS as REV
 from .target_velocity import OUTPUTS as VELOCITY
 
@@ -42,13 +42,13 @@ def coverage_ladder(n_c) -> list[int]:
 @peening_task(version="2")  # 2: one run to the largest coverage level, a profile at each level
 def target_runs(rev: xr.Dataset, velocity: xr.Dataset, coverage: xr.Dataset, *, material: MaterialParams,
                 shot: ShotParams, fidelity: FidelityParams, angle_deg: float, sequence: int, seed: int,
-                ctx=None) -> xr.Dataset:
+                stream: StreamParams | None = None, ctx=None) -> xr.Dataset:
     n_c = COVERAGE.coverage_shots_rounded.read(coverage).astype(int)
     levels = np.asarray(coverage.coverage_percent.values, dtype=float)
     speed = VELOCITY.velocity_m_s.read(velocity)
     ds = run_rev(ctx, material=material, shot=shot, fidelity=fidelity, side_m=REV.rev_side_m.read(rev),
                  measure_side_m=REV.measure_side_m.read(rev), thickness_m=REV.thickness_m.read(rev),
-                 angle_deg=angle_deg, velocity_m_s=speed, seed=seed, ladder=coverage_ladder(n_c))
+                 angle_deg=angle_deg, velocity_m_s=speed, seed=seed, ladder=coverage_ladder(n_c), stream=stream)
     at_levels = ds[["stress_xx_Pa", "stress_yy_Pa"]].sel(shots=list(n_c)).rename({"shots": "coverage_percent"})
     ds = ds.rename({"stress_xx_Pa": "ladder_stress_xx_Pa", "stress_yy_Pa": "ladder_stress_yy_Pa"})
     ds = ds.assign_coords(coverage_percent=var(levels, ("coverage_percent",), "%", "coverage level"))

@@ -191,6 +191,19 @@ class Graph:
                 values = {canonical_json(c[d]) for c in reached if d in c}
                 if len(values) == 1 and all(d in c for c in reached) and d not in node.coords:
                     node.coords[d] = reached[0][d]
+        # A family that is not a product (one value changed at a time) can reach some points of a stage along
+        # a dimension and share one point among the other combinations: that shared point is stored under
+        # the first combination that reached it, so the stage still combines along the dimension.
+        for d in dims:
+            by_stage: dict[str, list] = {}
+            for node in self.nodes:
+                by_stage.setdefault(node.stage, []).append(node)
+            for nodes in by_stage.values():
+                if any(d in n.coords for n in nodes) and not all(d in n.coords for n in nodes):
+                    for n in nodes:
+                        reached = self._reached.get(id(n))
+                        if d not in n.coords and reached and d in reached[0]:
+                            n.coords[d] = reached[0][d]
 
     def reached_by(self, node: Node) -> list[dict]:
         """The combinations of a family that reached ``node``."""

@@ -317,16 +317,17 @@ def _shot_vector(shots: Shots, i: int, model: Model, friction: float) -> tuple[n
                 mirror |= flag
     held = ([3, 7, 8] if mirror & MIRROR_X else []) + ([4, 6, 8] if mirror & MIRROR_Y else [])
     # round-off (cos 90 deg) is cleared; a real component is refused
-    scale = 1e-9 * (np.linalg.norm(s[3:6]) + np.linalg.norm(s[6:9]) * shots.radius + 1e-30)
-    if held and np.any(np.abs(s[held]) * np.where(np.array(held) >= 6, shots.radius, 1.0) > scale):
+    radius = shots.radius_of(i)
+    scale = 1e-9 * (np.linalg.norm(s[3:6]) + np.linalg.norm(s[6:9]) * radius + 1e-30)
+    if held and np.any(np.abs(s[held]) * np.where(np.array(held) >= 6, radius, 1.0) > scale):
         raise ValueError(f"shot {i} lies on a symmetry plane of the mesh but its velocity/spin "
                          f"{s[3:9].tolist()} has components that plane cannot hold (v normal to it, "
                          "spin about axes in it): use a larger model or align the shot with the plane")
     s[held] = 0.0
     s[S_MIRROR] = mirror
-    s[S_M] = shots.mass * frac
-    s[S_I] = shots.inertia * frac
-    s[S_R] = shots.radius
+    s[S_M] = shots.mass_of(i) * frac
+    s[S_I] = shots.inertia_of(i) * frac
+    s[S_R] = radius
     s[S_MU] = friction
     return s, frac
 
@@ -345,8 +346,9 @@ def reference_scales(shots: Shots) -> tuple[float, float]:
     energy and shot speed of ``shots`` (1, 1 for no shots)."""
     if not len(shots):
         return 1.0, 1.0
-    v2 = float(np.max(np.sum(shots.velocities**2, axis=1)))
-    return 0.5 * shots.mass * v2, float(np.sqrt(v2))
+    v2 = np.sum(shots.velocities**2, axis=1)
+    # 0.5 m max(v^2) for one radius; a size spread takes the largest per-shot energy
+    return float(np.max(0.5 * shots.mass * v2)), float(np.sqrt(np.max(v2)))
 
 
 class ImpactRun:
@@ -417,17 +419,17 @@ class ImpactRun:
         shot, frac = _shot_vector(shots, i, model, options.friction)
         vel = shot[3:6].copy()
         speed = float(np.linalg.norm(vel))
-        e_imp = 0.5 * shots.mass * speed**2 * frac
+        e_imp = 0.5 * shots.mass_of(i) * speed**2 * frac
         spin_in = shot[6:9].copy()  # components a symmetry plane cannot hold are 0
         sx = sy = 0
         if model.periodic and vel[2] > 0:
-            sx, sy = seam_shift(model, shot, vel, shots, material, options)
+            sx, sy = seam_shift(model, shot, vel, shots, material, options, i)
             if sx or sy:
                 roll(model, st, sx, sy)
                 # the shot moves with the material; one landing beyond the domain wraps into it
                 shot[0] -= sx * model.mesh.x_step
                 shot[1] -= sy * model.mesh.y_step
-        t_hit = time_to_contact(st.x[:top], shot[0:3].copy(), vel, shots.radius) if speed > 0 else math.inf
+        t_hit = time_to_contact(st.x[:top], shot[0:3].copy(), vel, shots.radius_of(i)) if speed > 0 else math.inf
         common = dict(shot_index=i, vin_x=vel[0], vin_y=vel[1], vin_z=vel[2], impact_energy=e_imp / frac,
                       spin_in_x=spin_in[0], spin_in_y=spin_in[1], spin_in_z=spin_in[2])
         if not math.isfinite(t_hit):  # missed the target
@@ -445,7 +447,7 @@ class ImpactRun:
         """The impact phase of a shot that will touch at ``t_hit`` (s from now); its record."""
         model, options, material, st = self.model, self.options, self.material, self.state
         # event-driven skip: free flight to just before contact
-        a_est, t_est = contact_estimates(shots, material, abs(vel[2]))
+        a_est, t_est = contact_estimates(shots, material, abs(vel[2]), i)
         dt_est = options.dt_safety * float(np.min(np.diff(model.mesh.z))) / material.wave_speed
         lead = options.lead_steps * dt_est
         # negative when the given centre overlaps the surface: the shot is

@@ -60,18 +60,19 @@ def contact_reach(radius: float, contact_time: float, tangential_speed: float, e
 
 
 def seam_shift(model, shot: np.ndarray, vel: np.ndarray, shots: Shots, material: Material,
-               options) -> tuple[int, int]:
+               options, i: int = 0) -> tuple[int, int]:
     """Whole-element roll (:func:`roll`) that keeps a shot's window and
-    contact clear of a periodic target's seam (0, 0 when they already are).
+    contact clear of a periodic target's seam (0, 0 when they already are), for shot ``i`` of
+    ``shots`` (its radius and mass size the contact).
 
     The landing point is where the sphere's lowest point reaches ``z = 0`` on
     its line; the reach around it is the window's (``options.window``) or the
     contact's search box plus the tangential travel (full-mesh runs). The
     contact must fit in half a period (ValueError otherwise)."""
-    R = shots.radius
+    R = shots.radius_of(i)
     t_l = (-R - shot[2]) / vel[2]
     xl, yl = shot[0] + vel[0] * t_l, shot[1] + vel[1] * t_l
-    a_est, t_est = contact_estimates(shots, material, abs(vel[2]))
+    a_est, t_est = contact_estimates(shots, material, abs(vel[2]), i)
     travel = 1.5 * t_est * vel[0:2]
     h = (model.mesh.x_step, model.mesh.y_step)
     contact = [contact_reach(R, t_est, vel[a], h[a]) for a in (0, 1)]

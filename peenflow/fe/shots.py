@@ -35,17 +35,18 @@ def sphere_mass(radius: float, density: float) -> float:
 
 @dataclass(frozen=True)
 class Shots:
-    """A sequence of identical rigid spherical shots.
+    """A sequence of rigid spherical shots of one density.
 
     centres : (n, 3) m, initial centres (z < 0 above the surface z = 0);
     velocities : (n, 3) m/s (v_z > 0 towards the target);
-    radius : m;  density : kg/m^3;
+    radius : m, one radius for every shot (a float) or each shot's own (an (n,) array: a stream with a
+    size spread, :func:`peenflow.methods.shot_stream`);  density : kg/m^3;
     spins : (n, 3) rad/s initial angular velocities (default zero).
     """
 
     centres: np.ndarray
     velocities: np.ndarray
-    radius: float
+    radius: float | np.ndarray
     density: float
     spins: np.ndarray | None = None
 
@@ -54,7 +55,10 @@ class Shots:
         v = np.ascontiguousarray(np.atleast_2d(np.asarray(self.velocities, float)))
         if c.shape != v.shape or c.shape[1] != 3:
             raise ValueError("centres and velocities must both be (n, 3)")
-        if self.radius <= 0 or self.density <= 0:
+        r = np.asarray(self.radius, float)
+        if r.ndim not in (0, 1) or (r.ndim == 1 and r.shape != (c.shape[0],)):
+            raise ValueError(f"radius must be one float or one per shot ({c.shape[0]},), got shape {r.shape}")
+        if not (np.all(r > 0) and self.density > 0):
             raise ValueError("radius and density must be positive")
         s = np.zeros_like(c) if self.spins is None else np.ascontiguousarray(np.asarray(self.spins, float))
         if s.shape != c.shape:
@@ -62,19 +66,33 @@ class Shots:
         object.__setattr__(self, "centres", c)
         object.__setattr__(self, "velocities", v)
         object.__setattr__(self, "spins", s)
+        # one radius stays a float, so a stream without a spread is computed exactly as before
+        object.__setattr__(self, "radius", float(r) if r.ndim == 0 else np.ascontiguousarray(r))
 
     def __len__(self) -> int:
         return len(self.centres)
 
     @property
-    def mass(self) -> float:
-        """kg"""
+    def mass(self) -> float | np.ndarray:
+        """kg (a float, or (n,) with per-shot radii)"""
         return sphere_mass(self.radius, self.density)
 
     @property
-    def inertia(self) -> float:
-        """Moment of inertia of a solid sphere, kg m^2."""
+    def inertia(self) -> float | np.ndarray:
+        """Moment of inertia of a solid sphere, kg m^2 (a float, or (n,) with per-shot radii)."""
         return 0.4 * self.mass * self.radius**2
+
+    def radius_of(self, i: int) -> float:
+        """Radius of shot ``i``, m."""
+        return self.radius if isinstance(self.radius, float) else float(self.radius[i])
+
+    def mass_of(self, i: int) -> float:
+        """Mass of shot ``i``, kg."""
+        return sphere_mass(self.radius_of(i), self.density)
+
+    def inertia_of(self, i: int) -> float:
+        """Moment of inertia of shot ``i``, kg m^2."""
+        return 0.4 * self.mass_of(i) * self.radius_of(i) ** 2
 
 
 @jit

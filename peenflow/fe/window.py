@@ -58,9 +58,9 @@ class WindowValidityWarning(UserWarning):
     """A shot's active window is smaller than any the window error was measured for."""
 
 
-def contact_estimates(shots: Shots, material: Material, vn: float) -> tuple[float, float]:
-    """(contact radius m, contact time s) estimates for window sizing (:func:`contact_estimate`)."""
-    return contact_estimate(shots.radius, shots.mass, vn, material.E, material.nu, material.A)
+def contact_estimates(shots: Shots, material: Material, vn: float, i: int = 0) -> tuple[float, float]:
+    """(contact radius m, contact time s) estimates of shot ``i`` for window sizing (:func:`contact_estimate`)."""
+    return contact_estimate(shots.radius_of(i), shots.mass_of(i), vn, material.E, material.nu, material.A)
 
 
 def contact_estimate(radius: float, mass: float, normal_speed: float, E: float, nu: float,

@@ -49,7 +49,8 @@ from .measured_strips import FitVerdict, StripDataError, StripIntensity, strip_i
 from .residual_profile import VOIGT, DepthProfile, EquilibriumResidual, LayerAverage, average_over_region, equilibrium_residual
 from .saturation import GROWTH_RATIO, SaturationFit, SequenceSaturation, fit_saturation, fit_sequences
 from .sequences import SequencesVerdict, sequences_verdict
-from .shot_stream import ShotStream, generate_centres, impingement_direction, landing_points, shot_stream
+from .shot_stream import (ShotStream, generate_centres, impingement_direction, landing_points, largest_factor, shot_stream,
+                          spread_factors)
 
 __all__ = [
     "StripRelease", "clamping_force_moment", "release_strip",
@@ -65,5 +66,6 @@ __all__ = [
     "VOIGT", "DepthProfile", "EquilibriumResidual", "LayerAverage", "average_over_region", "equilibrium_residual",
     "GROWTH_RATIO", "SaturationFit", "SequenceSaturation", "fit_saturation", "fit_sequences",
     "SequencesVerdict", "sequences_verdict",
-    "ShotStream", "generate_centres", "impingement_direction", "landing_points", "shot_stream",
+    "ShotStream", "generate_centres", "impingement_direction", "landing_points", "largest_factor", "shot_stream",
+    "spread_factors",
 ]

@@ -12,6 +12,8 @@ The last row names the fidelity and its measured error
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from peenflow.methods.profile_features import compressive_depth
@@ -41,22 +43,27 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
     if ext is not None:
         hc, hf = ext.attrs["coarse_element_size_m"] / UM, ext.attrs["fine_element_size_m"] / UM
     if control is not None:
-        for a in control.angle_deg.values:
-            for v in control.velocity_m_s.values:
-                c = control.sel(angle_deg=a, velocity_m_s=v)
-                i = float(c.intensity_m) / MM
-                if not np.isfinite(i):
-                    continue
-                note = f"saturation T = {float(c.saturation_shots):.0f} shots"
-                if int(c.intensity_extrapolated):
-                    note += ", beyond the ladder (extrapolated)"
-                if ext is not None:
-                    e = ext.sel(angle_deg=a, velocity_m_s=v)
-                    note += (f"; to zero element size from {float(e.fine_intensity_m) / MM:.3f} mm at {hf:g} um and "
-                             f"{float(e.coarse_intensity_m) / MM:.3f} mm at {hc:g} um "
-                             f"(correction {_pm(float(e.mesh_correction_m) / MM, float(e.mesh_correction_standard_error_m) / MM, 'mm')})")
-                rows.append((f"Almen intensity, {a:g} deg, {v:g} m/s", _pm(i, float(c.intensity_std_m) / MM, "mm"),
-                             note))
+        # a family's control curves also run along the process dimensions that reach them
+        extra = [d for d in control.intensity_m.dims if d not in ("angle_deg", "velocity_m_s")]
+        for a, v, combo in itertools.product(control.angle_deg.values, control.velocity_m_s.values,
+                                             itertools.product(*[range(control.sizes[d]) for d in extra])):
+            at = dict(zip(extra, combo))
+            of = f" ({point_name(control, at)})" if at else ""
+            c = control.sel(angle_deg=a, velocity_m_s=v).isel(at)
+            i = float(c.intensity_m) / MM
+            if not np.isfinite(i):
+                continue
+            note = f"saturation T = {float(c.saturation_shots):.0f} shots"
+            if int(c.intensity_extrapolated):
+                note += ", beyond the ladder (extrapolated)"
+            if ext is not None:
+                e = ext.sel(angle_deg=a, velocity_m_s=v)
+                e = e.isel({d: k for d, k in at.items() if d in e.dims})
+                note += (f"; to zero element size from {float(e.fine_intensity_m) / MM:.3f} mm at {hf:g} um and "
+                         f"{float(e.coarse_intensity_m) / MM:.3f} mm at {hc:g} um "
+                         f"(correction {_pm(float(e.mesh_correction_m) / MM, float(e.mesh_correction_standard_error_m) / MM, 'mm')})")
+            rows.append((f"Almen intensity, {a:g} deg, {v:g} m/s{of}", _pm(i, float(c.intensity_std_m) / MM, "mm"),
+                         note))
     if graph.labels.get("process_dims"):  # a family: the map says it per point
         rows += map_rows(get("process_map"), get("suggested_settings"))
         fidelity = graph.result_attrs.get("peenflow_fidelity")

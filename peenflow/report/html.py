@@ -94,7 +94,11 @@ def build_report(graph, store, study_path: Path, images: list[Path], headline_ro
 
     parts += map_section(stage_or_none(graph, store, "process_map"), stage_or_none(graph, store, "suggested_settings"),
                          images, _table)
-    images = [img for img in images if Path(img).name not in FIGURES]
+    from .sensitivity_section import FIGURE as TORNADO
+    from .sensitivity_section import sensitivity_section
+
+    parts += sensitivity_section(stage_or_none(graph, store, "sensitivity"), images, _table)
+    images = [img for img in images if Path(img).name not in FIGURES and Path(img).name != TORNADO]
     parts.append("<h2 id=\"figures\">Figures</h2>")
     if not images:
         parts.append("<p>No figure yet.</p>")

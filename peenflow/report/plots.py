@@ -16,6 +16,7 @@ tracked folder, and two studies never share a folder.
 
 from __future__ import annotations
 
+import itertools
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +24,7 @@ import numpy as np
 from peenflow.methods.profile_features import compressive_depth
 from peenflow.units import MM, MPA, UM
 
+from .headline import point_name
 from .reading import stage_or_none as _result
 
 
@@ -51,8 +53,16 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
         plt.close(fig)
         written.append(path)
 
-    arc = _result(graph, store, "arc_height")
-    sat = _result(graph, store, "saturation")
+    process_dims = list(about.get("process_dims") or [])
+
+    def first_point(ds):
+        """A strip-side result of a family whose dimensions reach the strips: its first map point."""
+        if ds is None:
+            return None
+        return ds.isel({d: 0 for d in process_dims if d in ds.dims})
+
+    arc = first_point(_result(graph, store, "arc_height"))
+    sat = first_point(_result(graph, store, "saturation"))
     if arc is not None:
         angles = arc.angle_deg.values
         fig, axes = plt.subplots(1, len(angles), figsize=(6 * len(angles), 4.5), squeeze=False)
@@ -93,17 +103,22 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
                    title=f"saturation curves, {strip}, {shot} at {a:g} deg".replace(" ,", ","))
         save(fig, "saturation.png")
 
-    control = _result(graph, store, "control_curve")
-    ext = _result(graph, store, "intensity_extrapolation")
-    if control is not None:
+    control_all = _result(graph, store, "control_curve")
+    ext = first_point(_result(graph, store, "intensity_extrapolation"))
+    if control_all is not None:
         fig, ax = plt.subplots(figsize=(6.5, 4.5))
         n_seq = _sequences(sat) if sat is not None else 1
-        for a in control.angle_deg.values:
+        # a family's control curves: one per combination of the dimensions that reach them
+        extra = [d for d in process_dims if d in control_all.intensity_m.dims]
+        combos = [dict(zip(extra, k)) for k in itertools.product(*[range(control_all.sizes[d]) for d in extra])]
+        for a, at in itertools.product(control_all.angle_deg.values, combos):
+            control = control_all.isel(at)
             c = control.sel(angle_deg=a)
+            of = f" ({point_name(control_all, at)})" if at else ""
             line = ax.errorbar(c.velocity_m_s, c.intensity_m / MM, yerr=np.nan_to_num(c.intensity_std_m) / MM,
-                               fmt="o", capsize=3, label=f"{a:g} deg")
+                               fmt="o", capsize=3, label=f"{a:g} deg{of}")
             ax.plot(c.velocity_fine_m_s, c.curve_intensity_m / MM, "-", color=line[0].get_color())
-            if ext is not None:  # the two levels the intensities were extrapolated from
+            if ext is not None and not at:  # the two levels the intensities were extrapolated from
                 e = ext.sel(angle_deg=a)
                 ax.plot(e.velocity_m_s, e.fine_intensity_m / MM, "v", mfc="none", color=line[0].get_color())
                 ax.plot(e.velocity_m_s, e.coarse_intensity_m / MM, "x", color=line[0].get_color())
@@ -208,4 +223,7 @@ def write_plots(graph, store, out_dir: Path, about: dict | None = None) -> list[
 
         written += write_map_plots(_result(graph, store, "process_map"), _result(graph, store, "suggested_settings"),
                                    out_dir, save, plt)
+        from .sensitivity_section import write_sensitivity_plot
+
+        write_sensitivity_plot(_result(graph, store, "sensitivity"), save, plt)
     return written

@@ -21,6 +21,7 @@ Pipeline (every step collects problems instead of stopping at the first):
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -40,7 +41,7 @@ from .measured_profile import PROFILE_COMPONENTS, ProfileError, read_measured_pr
 from .model import Study, StudyInfo
 from .requirements import FEATURES, MINIMISE_SHOTS, Requirements
 from .sections import Almen, Coverage, Dmin, Execution, Seeds, ShotSection, Target
-from .variants import ListProblem, apply_overrides, expand
+from .variants import BASELINE, SENSITIVITY_DIM, ListProblem, apply_overrides, expand
 
 __all__ = ["load_study", "validate_study", "LIBRARY_DIR", "LIBRARY_PREFIX", "PROFILE_COMPONENTS"]
 
@@ -62,10 +63,32 @@ REGISTRY: dict[str, type[BaseModel]] = {"materials": Material, "shots": Shot, "s
 SINGULAR = {"materials": "material", "shots": "shot", "strips": "Almen strip"}
 STUDY_KEYS = ("name", "description", "include", "extends", "allow_outside_bounds")
 #: tables beside the sections: named targets, the sweep of any key, what the part needs
-FAMILY_KEYS = ("targets", "sweep", "requirements")
+FAMILY_KEYS = ("targets", "sweep", "sensitivity", "requirements")
 TOP_KEYS = ("study", *SECTIONS, *REGISTRY, *FAMILY_KEYS)
 # Where a section names a library item: (section, key, registry kind).
 REFERENCES = (("shot", "type", "shots"), ("almen", "strip", "strips"), ("target", "material", "materials"))
+
+
+def _drop_baseline_copies(dims: list, studies: list) -> tuple[list, list]:
+    """A ``[sensitivity]`` change to the value the study already has (written or by default) is the baseline:
+    its point and its label go (the same study twice would be one point under two names)."""
+    if not dims or dims[-1].name != SENSITIVITY_DIM:
+        return dims, studies
+    dim = dims[-1]
+    baseline = {}
+    for coords, st in studies:
+        if coords[dim.name] == BASELINE:
+            baseline[tuple(sorted((k, repr(v)) for k, v in coords.items() if k != dim.name))] = st.digest()
+    same = set()
+    for coords, st in studies:
+        other = tuple(sorted((k, repr(v)) for k, v in coords.items() if k != dim.name))
+        if coords[dim.name] != BASELINE and st.digest() == baseline.get(other):
+            same.add(coords[dim.name])
+    if not same:
+        return dims, studies
+    kept = tuple(v for v in dim.values if v not in same)
+    new = dataclasses.replace(dim, values=kept, given=kept)
+    return dims[:-1] + [new], [(c, st) for c, st in studies if c[dim.name] not in same]
 
 
 def load_study(path: str | Path) -> Study:
@@ -356,18 +379,31 @@ class _Loader:
         except ListProblem as exc:
             self.add(exc.key, exc.message, value=exc.value if exc.value is not None else _NO_VALUE)
             return None
+        if raw.data.get("sensitivity") is not None and raw.data.get("target") is None \
+                and raw.data.get("targets") is None:
+            self.add("sensitivity", "[sensitivity] reports each input's change of the part's velocity and profile: "
+                     "it needs a [target] (or [targets.NAME])")
+            return None
         base = {k: v for k, v in raw.data.items() if k not in FAMILY_KEYS}
+        for table in ("sweep", "sensitivity"):
+            if isinstance(raw.data.get(table), dict):
+                self.check_sweep_keys(raw.data[table], raw, table)
+        if self.problems:
+            return None
         studies = []
         for v in variants:
             data = copy.deepcopy(base)
             if v.target is not None:
                 data["target"] = copy.deepcopy(v.target)
             if v.overrides:
-                self.check_sweep_keys(v.overrides, raw)
                 apply_overrides(data, v.overrides)
             studies.append((v.coords, self.build(raw, data)))
             if self.problems:  # the first variant's problems are the study's: the others would repeat them
                 return None
+        dims, studies = _drop_baseline_copies(dims, studies)
+        if dims and dims[-1].name == SENSITIVITY_DIM and len(dims[-1].values) == 1:
+            self.add("sensitivity", "every value given is the study's own: give values to change to")
+            return None
         requirements = self.requirements(raw.data.get("requirements"), dims)
         if requirements is None and raw.data.get("requirements") is not None:
             return None
@@ -378,15 +414,16 @@ class _Loader:
         object.__setattr__(first, "_requirements", requirements)
         return first
 
-    def check_sweep_keys(self, overrides: dict, raw: "_Raw") -> None:
-        """A swept key of a library item names an item the study can see, and an existing field of it."""
+    def check_sweep_keys(self, overrides: dict, raw: "_Raw", table: str = "sweep") -> None:
+        """A key of ``[sweep]`` or ``[sensitivity]`` (``table``): a library item it names is one the study can
+        see, and the field exists."""
         for key in overrides:
             kind, _, rest = key.partition(".")
             name, _, field_path = rest.partition(".")
             if kind in REGISTRY:
                 known = self.registry_names(raw).get(kind, set())
                 if name not in known:
-                    self.add(f'sweep."{key}"', f"no {SINGULAR[kind]} {name!r}{suggest(name, sorted(known))} to sweep "
+                    self.add(f'{table}."{key}"', f"no {SINGULAR[kind]} {name!r}{suggest(name, sorted(known))} to sweep "
                              f"(known: {', '.join(sorted(known))})")
                     continue
                 model, path = REGISTRY[kind], field_path.split(".")
@@ -397,7 +434,7 @@ class _Loader:
             for i, part in enumerate(path):
                 fields = getattr(model, "model_fields", {})
                 if part not in fields:
-                    self.add(f'sweep."{key}"', f"no key {part!r}{suggest(part, list(fields))} in "
+                    self.add(f'{table}."{key}"', f"no key {part!r}{suggest(part, list(fields))} in "
                              f"{'.'.join([kind, name] if kind in REGISTRY else [kind])}"
                              f"{'.' + '.'.join(path[:i]) if i else ''}: expected an existing numeric key")
                     break

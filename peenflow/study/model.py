@@ -133,7 +133,7 @@ class Study(StudyModel):
         out: dict = {"schema_version": SCHEMA_VERSION}
         for key in ("shot", "almen", "dmin", "coverage", "target", "fidelity", "seeds"):
             section = getattr(self, key)
-            out[key] = None if section is None else section.model_dump(mode="python")
+            out[key] = None if section is None else section.model_dump(mode="python", warnings=False)
         target = out["target"]
         if target is not None:
             target.pop("almen_intensity")

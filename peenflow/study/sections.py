@@ -34,6 +34,15 @@ class ShotSection(StudyModel):
     friction_coefficient: Annotated[
         float, check(lambda x: 0 <= x <= 1, "a Coulomb friction coefficient in [0, 1]")
     ] = Field(0.2, description="Coulomb friction coefficient shot-target")
+    diameter_spread_percent: Annotated[
+        float, check(lambda x: 0 <= x <= 25, "a standard deviation in per cent of the diameter, in [0, 25]")
+    ] = Field(0.0, description="standard deviation of each shot's diameter, % of the nominal diameter "
+                               "(0: every shot nominal, the paper's stream); a sieve distribution of cast shot "
+                               "is about 10 %")
+    velocity_spread_percent: Annotated[
+        float, check(lambda x: 0 <= x <= 25, "a standard deviation in per cent of the velocity, in [0, 25]")
+    ] = Field(0.0, description="standard deviation of each shot's speed, % of the nominal velocity (0: every "
+                               "shot at the nominal velocity); air blast scatters by about 5-10 %")
 
     # the shot's own properties, as a study reads them
     @property

@@ -1,4 +1,5 @@
-"""A study's process dimensions: lists in [target], named [targets.NAME], and the [sweep] of any key.
+"""A study's process dimensions: lists in [target], named [targets.NAME], the [sweep] of any key, and the
+[sensitivity] table's one-at-a-time changes.
 
 A study with lists is a family of single-point studies, one per combination
 of the listed values (a *variant*).  This module reads the lists from a
@@ -8,7 +9,11 @@ study's merged raw tables and gives
   list of ``thickness_mm`` is the dimension ``target_thickness_m`` in m; the
   shop notation of an intensity is kept as an attribute), values and units;
 * the variants: per combination, its coordinates, its ``[target]`` table and
-  the ``[sweep]`` values to set (:func:`apply_overrides`).
+  the ``[sweep]`` values to set (:func:`apply_overrides`);
+* ``[sensitivity]`` (same form as ``[sweep]``): not a product but one key
+  changed at a time from the study as written, the points named
+  ``baseline`` and ``KEY@VALUE`` in one dimension ``sensitivity`` (so ten
+  values of five keys cost eleven points, not 2^5 or 3^5).
 
 Every variant is then validated as the single-point study it is.  What a
 list may not be is refused here, with the key and what is expected.
@@ -29,7 +34,8 @@ from typing import Any
 from ..units import GPA, MM, MPA, UM
 from .intensity import parse_intensity
 
-__all__ = ["Dim", "Variant", "TARGET_LIST_KEYS", "expand", "apply_overrides", "sweep_dim_name"]
+__all__ = ["Dim", "Variant", "TARGET_LIST_KEYS", "BASELINE", "SENSITIVITY_DIM", "expand", "apply_overrides",
+           "sensitivity_label", "sweep_dim_name"]
 
 #: [target] keys that take a list (each a dimension): key -> (dimension name, SI factor or None, units, long name)
 TARGET_LIST_KEYS: dict[str, tuple[str, float | None, str, str]] = {
@@ -183,6 +189,9 @@ def expand(data: dict) -> tuple[list[Dim], list[Variant]]:
                          for name in names for t in per[name][1]]
     sweep_dims, sweep_points = _sweep(sweep, data)
     dims += sweep_dims
+    one_dims, one_points = _sensitivity(data.get("sensitivity"), data, sweep)
+    dims += one_dims
+    sweep_points = [({**sc, **oc}, {**so, **oo}) for (sc, so), (oc, oo) in itertools.product(sweep_points, one_points)]
     taken = [d.name for d in dims]
     for name in set(taken):
         if taken.count(name) > 1:
@@ -197,6 +206,33 @@ def _value(dim: Dim, table: dict):
     return dim.values[dim.given.index(table[dim.key.rpartition(".")[2]])]
 
 
+def _check_key(table: str, key: str, values, data: dict) -> list:
+    """A ``[sweep]`` or ``[sensitivity]`` entry: a dotted numeric study key and a list of numbers."""
+    where = f"{table}.{key}" if "." not in key else f'{table}."{key}"'
+    values = _check_list(where, values)
+    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in values):
+        raise ListProblem(where, "expected a list of numbers (only numeric keys can be swept)", values)
+    top, _, rest = key.partition(".")
+    if top in ("study", "execution"):
+        raise ListProblem(where, f"{key} cannot be swept: [{top}] changes no result")
+    if top not in SWEEPABLE_TOP or not rest:
+        raise ListProblem(where, f"{key} is not a study key (expected a dotted path such as "
+                          '"shot.friction_coefficient" or "materials.SAE1070.johnson_cook.C")')
+    if top == "target":
+        field = rest.partition(".")[0]
+        if field in TARGET_LIST_KEYS or field == "coverage_percent":
+            raise ListProblem(where, f"target.{field} is swept as a list in [target] itself "
+                              f"(target.{field} = [...]); give it there")
+        if isinstance(data.get("target"), dict) and isinstance(data["target"].get(field), list):
+            raise ListProblem(where, f"target.{field} is already a list in [target]")
+    current = _lookup(data, key)
+    if isinstance(current, list):
+        raise ListProblem(where, f"{key} is already a list (a sweep of its own): it cannot be swept again")
+    if current is not None and (not isinstance(current, (int, float)) or isinstance(current, bool)):
+        raise ListProblem(where, f"{key} = {current!r} is not a number: only numeric keys can be swept")
+    return values
+
+
 def _sweep(sweep, data: dict) -> tuple[list[Dim], list[tuple[dict, dict]]]:
     if sweep is None:
         return [], [({}, {})]
@@ -205,28 +241,7 @@ def _sweep(sweep, data: dict) -> tuple[list[Dim], list[tuple[dict, dict]]]:
                           '"shot.friction_coefficient" = [0.1, 0.2, 0.4]', sweep)
     dims, axes = [], []
     for key, values in sweep.items():
-        where = f"sweep.{key}" if "." not in key else f'sweep."{key}"'
-        values = _check_list(where, values)
-        if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in values):
-            raise ListProblem(where, "expected a list of numbers (only numeric keys can be swept)", values)
-        top, _, rest = key.partition(".")
-        if top in ("study", "execution"):
-            raise ListProblem(where, f"{key} cannot be swept: [{top}] changes no result")
-        if top not in SWEEPABLE_TOP or not rest:
-            raise ListProblem(where, f"{key} is not a study key (expected a dotted path such as "
-                              '"shot.friction_coefficient" or "materials.SAE1070.johnson_cook.C")')
-        if top == "target":
-            field = rest.partition(".")[0]
-            if field in TARGET_LIST_KEYS or field == "coverage_percent":
-                raise ListProblem(where, f"target.{field} is swept as a list in [target] itself "
-                                  f"(target.{field} = [...]); give it there")
-            if isinstance(data.get("target"), dict) and isinstance(data["target"].get(field), list):
-                raise ListProblem(where, f"target.{field} is already a list in [target]")
-        current = _lookup(data, key)
-        if isinstance(current, list):
-            raise ListProblem(where, f"{key} is already a list (a sweep of its own): it cannot be swept again")
-        if current is not None and (not isinstance(current, (int, float)) or isinstance(current, bool)):
-            raise ListProblem(where, f"{key} = {current!r} is not a number: only numeric keys can be swept")
+        values = _check_key("sweep", key, values, data)
         name, factor, units = sweep_dim_name(key)
         dims.append(Dim(name, key, tuple(float(v) * factor for v in values), tuple(values), units,
                         f"swept study key {key}"))
@@ -234,6 +249,41 @@ def _sweep(sweep, data: dict) -> tuple[list[Dim], list[tuple[dict, dict]]]:
     points = [({d.name: d.values[d.given.index(v)] for d, v in zip(dims, combo)},
                {d.key: v for d, v in zip(dims, combo)}) for combo in itertools.product(*axes)]
     return dims, points
+
+
+#: the dimension of a [sensitivity] table and the name of its unchanged point
+SENSITIVITY_DIM, BASELINE = "sensitivity", "baseline"
+
+
+def sensitivity_label(key: str, value) -> str:
+    """The name of the point that changes ``key`` to ``value`` (CF flag-meaning characters only)."""
+    return f"{key}@{value:g}"
+
+
+def _sensitivity(table, data: dict, sweep) -> tuple[list[Dim], list[tuple[dict, dict]]]:
+    """One input at a time: the study as written (``baseline``) and, for every key and value of the
+    table, the study with that one key changed; one labelled dimension ``sensitivity``."""
+    if table is None:
+        return [], [({}, {})]
+    if not isinstance(table, dict) or not table:
+        raise ListProblem("sensitivity", 'expected a table of dotted study keys and the values to try one at a '
+                          'time, e.g. "shot.friction_coefficient" = [0.1, 0.4]', table)
+    labels, overrides = [BASELINE], [{}]
+    for key, values in table.items():
+        values = _check_key("sensitivity", key, values, data)
+        if isinstance(sweep, dict) and key in sweep:
+            raise ListProblem(f'sensitivity."{key}"', f"{key} is also in [sweep]: vary it in one of them")
+        current = _lookup(data, key)
+        for v in values:
+            if current is not None and float(v) == float(current):
+                continue  # the baseline itself
+            labels.append(sensitivity_label(key, v))
+            overrides.append({key: v})
+    if len(labels) == 1:
+        raise ListProblem("sensitivity", "every value given is the study's own: give values to change to")
+    dim = Dim(SENSITIVITY_DIM, "sensitivity", tuple(labels), tuple(labels), "1",
+              "the one input changed from the study as written (baseline: none)", labels=True)
+    return [dim], [({SENSITIVITY_DIM: lab}, ov) for lab, ov in zip(labels, overrides)]
 
 
 def _lookup(data: dict, key: str):

@@ -31,6 +31,8 @@ EXPLICIT_REVS = {"almen.rev_rule": "explicit", "almen.rev_size_mm": 3.5, "target
 CHANGES = {
     "ShotSection.type": ({}, {"shot.type": "S330"}),
     "ShotSection.friction_coefficient": ({}, {"shot.friction_coefficient": 0.3}),
+    "ShotSection.diameter_spread_percent": ({}, {"shot.diameter_spread_percent": 10.0}),
+    "ShotSection.velocity_spread_percent": ({}, {"shot.velocity_spread_percent": 5.0}),
     "Almen.strip": ({}, {"almen.strip": "N", "target.almen_intensity": "12N"}),
     "Almen.angles_deg": ({}, {"almen.angles_deg": [45.0, 90.0]}),
     "Almen.velocities_m_s": ({}, {"almen.velocities_m_s": [25.0, 35.0, 45.0]}),
