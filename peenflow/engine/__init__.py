@@ -21,6 +21,7 @@ It knows nothing about shot peening.  Pieces, one module each:
 * ``checkpoint``   intermediate state of long tasks
 * ``context``      what a running task may ask (progress, checkpoints, whether to stop)
 * ``interrupt``    the per-process stop request (Ctrl-C, SIGTERM, SIGHUP)
+* ``cluster_stop`` that request passed on to the points on dask.distributed workers
 * ``cores``        sharing a process's cores between the points it runs at once
 * ``blas``         one BLAS thread in every process that computes (bit-identical cluster runs)
 * ``runner``       running one point

@@ -10,7 +10,9 @@
 * ``scheduler="tcp://HOST:PORT"``: the same graph on a running
   dask.distributed cluster; the store must be on a path every worker sees.
   Workers import the task modules by name, so the project must be installed
-  on them.
+  on them.  A stop request of this process (Ctrl-C, SIGTERM, SIGHUP) reaches
+  the points on the workers through a dask Variable (cluster_stop.py): they
+  stop at their next checkpoint as local ones do.
 
 Points are submitted as one dask graph; each runs :func:`runner.run_node`,
 which records its own failures, so a failed point never stops the others.
@@ -25,6 +27,7 @@ import time
 import uuid
 from pathlib import Path
 
+from .cluster_stop import StopRelay, variable_name
 from .cores import CoreBudget, set_active_budget, wanted_threads
 from .graph import Graph, Group, Node
 from .lease import STALE_AFTER_S
@@ -48,8 +51,9 @@ def available_cores() -> int:
 
 
 def point_specs(graph: Graph, nodes: list[Node], store: DirectoryStore, forced: set[str],
-                threads: int | dict[str, int]) -> dict[str, tuple[PointSpec, list[str]]]:
-    """Specs of ``nodes``; ``threads``: one count for all, or per stage."""
+                threads: int | dict[str, int], stop_variable: str | None = None,
+                ) -> dict[str, tuple[PointSpec, list[str]]]:
+    """Specs of ``nodes``; ``threads``: one count for all, or per stage; ``stop_variable``: see PointSpec."""
     from .content import PROVENANCE_PREFIX
 
     bad = [k for k in graph.result_attrs if not k.startswith(PROVENANCE_PREFIX)]
@@ -73,6 +77,7 @@ def point_specs(graph: Graph, nodes: list[Node], store: DirectoryStore, forced: 
             threads=threads[node.stage] if isinstance(threads, dict) else threads,
             sweep_attrs={d: dict(graph.coord_attrs.get(d, {})) for d in node.coords},
             result_attrs={**graph.result_attrs, **graph.stage_result_attrs.get(node.stage, {}), **node.result_attrs},
+            stop_variable=stop_variable,
         )
         out[node.node_id] = (spec, [u.node_id for u in ups])
     return out
@@ -189,8 +194,9 @@ def _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter,
             budget = CoreBudget(max(cores, workers))
     else:
         threads = threads or 1
+    stop_variable = variable_name() if scheduler is not None else None
     reporter.expect(nodes)
-    specs = point_specs(graph, nodes, store, set(forced), threads)
+    specs = point_specs(graph, nodes, store, set(forced), threads, stop_variable)
     # upstream points run in an earlier round (growing sweeps) enter as their outcomes
     previous = previous or {}
     dsk = {nid: (run_node, spec, [u if u in specs else previous[u] for u in ups])
@@ -209,7 +215,7 @@ def _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter,
                 set_active_budget(None)
                 set_notice(None)
         else:
-            outcomes = _run_distributed(dsk, keys, scheduler, reporter)
+            outcomes = _run_distributed(dsk, keys, scheduler, reporter, stop_variable)
     finally:
         monitor.stop.set()
         reporter.finish()
@@ -228,7 +234,7 @@ def _run_local(dsk, keys, workers, reporter) -> list[Outcome]:
         return list(get(dsk, keys, num_workers=workers))
 
 
-def _run_distributed(dsk, keys, address, reporter) -> list[Outcome]:
+def _run_distributed(dsk, keys, address, reporter, stop_variable) -> list[Outcome]:
     from distributed import Client, as_completed
 
     try:
@@ -238,7 +244,7 @@ def _run_distributed(dsk, keys, address, reporter) -> list[Outcome]:
             f"cannot reach the dask scheduler at {address} within {SCHEDULER_TIMEOUT_S:g} s "
             f"({type(exc).__name__}): check that `dask scheduler` runs there, that the address and port are "
             "right (tcp://HOST:PORT, default port 8786) and that no firewall blocks it") from None
-    with client:
+    with client, StopRelay(client, stop_variable):
         futures = client.get(dsk, keys, sync=False)
         by_future = dict(zip(futures, keys))
         results = {}

@@ -25,11 +25,12 @@ import xarray as xr
 from .. import __version__
 from .blas import pin_blas_threads
 from .canonical import canonical_json
+from .cluster_stop import worker_check
 from .combine import combine_points
 from .context import TaskContext
 from .conventions import conform, retag_point, squeeze_point
 from .cores import active_budget
-from .interrupt import Interrupted, stop_reason, stop_requested
+from .interrupt import Interrupted, heeding, stop_reason, stop_requested
 from .keys import KeyParts, reason_against_slot
 from .lease import STALE_AFTER_S, wait_text
 from .reasons import Reason
@@ -67,6 +68,8 @@ class PointSpec:
     sweep_attrs: dict = field(default_factory=dict)
     #: the graph's ``result_attrs``: written on the result, not part of its key
     result_attrs: dict = field(default_factory=dict)
+    #: on a cluster: the dask Variable through which the run's client asks its points to stop (cluster_stop.py)
+    stop_variable: str | None = None
 
 
 @dataclass(frozen=True)
@@ -140,11 +143,13 @@ def _outcome(spec, key, status, reason, detail="", **kw) -> Outcome:
 
 def run_node(spec: PointSpec, ups: list[Outcome]) -> Outcome:
     """Compute or reuse one point.  Never raises for a failing task."""
-    try:
-        return _run_node(spec, ups)
-    except Exception as exc:  # engine-level failure: still report, never lose the others
-        error = failure_text(exc, DirectoryStore(spec.store_root))
-        return _outcome(spec, None, "failed", "engine error", error, error=error, trace=traceback.format_exc())
+    # on a cluster worker the client's stop request is not this process's: heed the run's as well
+    with heeding(worker_check(spec.stop_variable) if spec.stop_variable else None):
+        try:
+            return _run_node(spec, ups)
+        except Exception as exc:  # engine-level failure: still report, never lose the others
+            error = failure_text(exc, DirectoryStore(spec.store_root))
+            return _outcome(spec, None, "failed", "engine error", error, error=error, trace=traceback.format_exc())
 
 
 def failure_text(exc: BaseException, store: DirectoryStore) -> str:

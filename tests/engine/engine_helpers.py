@@ -57,3 +57,19 @@ def statuses(run_output: str) -> dict[str, str]:
             point = parts[4] if parts[1] == "computed" else parts[2]
             out[point] = parts[1]
     return out
+
+
+def stop_with(proc: subprocess.Popen, sig: int, timeout: float = 30.0) -> tuple[str, str, float]:
+    """Send ``sig`` to a running ``peenflow`` (started with ``start_new_session=True``) and wait for it to
+    exit: (stdout, stderr, seconds from the signal to the exit); its process group is killed if it does not."""
+    import signal
+    import time
+
+    t0 = time.time()
+    try:
+        os.kill(proc.pid, sig)
+        out, err = proc.communicate(timeout=timeout)
+        return out, err, time.time() - t0
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)

@@ -1,7 +1,8 @@
 """A small, generic pipeline for the engine's tests (no physics).
 
 source(n) -> scale[factor] (swept) -> total (combined over factor)
-counter(steps): a long task that checkpoints after every step.
+counter(steps): a long task that checkpoints after every step (``lanes = N``: instead, a sweep of N
+lane_counter points that log each step to $TOY_LOG and store only their sum, the same whether resumed or not).
 probe: a sweep of points, then one lone point after them, that record the compute
 threads they were given and the threads in use meanwhile (``build_probe``).
 """
@@ -50,8 +51,8 @@ def total(scaled: xr.Dataset) -> xr.Dataset:
     return xr.Dataset({"total": scaled.scaled.sum("i")})
 
 
-@task()
-def counter(*, steps: int, delay_s: float = 0.0, ctx) -> xr.Dataset:
+def _count(ctx, steps: int, delay_s: float, lane: int = 0) -> tuple[float, int]:
+    """Add up 0..steps-1, a checkpoint after every step; returns (the sum, the step it started at)."""
     state = ctx.load_checkpoint()
     start = int(state.step) if state is not None else 0
     acc = float(state.acc) if state is not None else 0.0
@@ -59,10 +60,23 @@ def counter(*, steps: int, delay_s: float = 0.0, ctx) -> xr.Dataset:
         time.sleep(delay_s)
         acc += k
         ctx.save_checkpoint(xr.Dataset({"step": ((), k + 1), "acc": ((), acc)}))
+        _log("step", f"{lane}/{k}")
         ctx.progress(k + 1, steps, "steps")
         if ctx.stop_requested:  # a checkpoint is saved: stop here (Ctrl-C, SIGTERM, SIGHUP)
             ctx.stop(f"after step {k + 1} of {steps}")
+    return acc, start
+
+
+@task()
+def counter(*, steps: int, delay_s: float = 0.0, ctx) -> xr.Dataset:
+    acc, start = _count(ctx, steps, delay_s)
     return xr.Dataset({"acc": ((), acc), "started_at_step": ((), start)})
+
+
+@task()
+def lane_counter(*, lane: int, steps: int, delay_s: float = 0.0, ctx) -> xr.Dataset:
+    acc, _ = _count(ctx, steps, delay_s, lane)
+    return xr.Dataset({"acc": ((), acc)})
 
 
 def build(path) -> Graph:
@@ -74,7 +88,11 @@ def build(path) -> Graph:
     scaled = g.sweep(scale, dims={"factor": toy["factors"]}, upstream={"src": src},
                      params={"delay_s": toy.get("delay_s", 0.0)})
     g.add(total, upstream={"scaled": scaled})
-    g.add(counter, params={"steps": toy.get("steps", 3), "delay_s": toy.get("counter_delay_s", 0.0)})
+    counting = {"steps": toy.get("steps", 3), "delay_s": toy.get("counter_delay_s", 0.0)}
+    if "lanes" in toy:
+        g.sweep(lane_counter, dims={"lane": list(range(toy["lanes"]))}, params=counting)
+    else:
+        g.add(counter, params=counting)
     return g
 
 
