@@ -45,6 +45,7 @@ from .params import StripSweep, StudyFamily, StudyParams, requirements_params, s
 from .process_map import process_map
 from .sensitivity import sensitivity
 from .suggested_settings import suggested_settings
+from .verification import verified_settings, verify_runs
 from .preflight import check_before_compute
 from .residual_profile import residual_profile
 from .rev_size import rev_size
@@ -91,6 +92,10 @@ STAGES: dict[str, str] = {
     "process_map": "[target] with lists, [targets.NAME], [sweep], coverage levels or [requirements]: the profiles "
                    "and their features over every process dimension, in one Dataset",
     "suggested_settings": "[requirements]: the settings that meet every requirement with the least of minimise",
+    "verify_runs": "[requirements] verify = true: the chosen map point's REV runs to the suggested coverage "
+                   "(the other points return at once)",
+    "verified_settings": "[requirements] verify = true: each requirement predicted by the map and computed at "
+                         "the suggestion",
     "sensitivity": "[sensitivity]: each input's change of the part's velocity and profile features against the "
                    "study as written",
 }
@@ -123,10 +128,10 @@ def graph_for_family(f: StudyFamily) -> Graph:
     g = Graph(first.name)
     g.coord_attrs = {**SWEEP_COORDS, **{d.name: dim_attrs(d) for d in f.dims}}
     g.result_attrs = fidelity_statement(first.levels)  # what made each result, and its measured error
-    finals = []
+    finals, handles = [], []
     for coords, p in f.points:
         with g.variant(coords):
-            finals.append(_add_point(g, p))
+            finals.append(_add_point(g, p, handles))
             own = fidelity_statement(p.levels)
             if own != g.result_attrs:  # a swept fidelity: each point states its own
                 for node in g.variant_nodes:
@@ -139,8 +144,10 @@ def graph_for_family(f: StudyFamily) -> Graph:
         pmap = g.add(process_map, upstream={"profiles": Group(finals, tuple(dims))}, params={
             "dims": dims, "errors": [_point_error(p) for _, p in f.points], "error_basis": target_error_basis()})
         if f.requirements is not None:
-            g.add(suggested_settings, upstream={"process_map": pmap},
-                  params={"requirements": requirements_params(f.requirements, f.dims)})
+            req = requirements_params(f.requirements, f.dims)
+            sug = g.add(suggested_settings, upstream={"process_map": pmap}, params={"requirements": req})
+            if f.requirements.verify:
+                _add_verification(g, f, handles, sug, req)
         if any(d.name == SENSITIVITY_DIM for d in f.dims):
             g.add(sensitivity, upstream={"process_map": pmap})
     g.execution = {k: v for k, v in (("workers", first.workers), ("threads", first.threads)) if v is not None}
@@ -186,8 +193,27 @@ def _point_error(p: StudyParams):
                               lv.dent_element_size_um, core)
 
 
-def _add_point(g: Graph, p: StudyParams):
-    """One combination's stages; the node of its answer (``residual_profile``, or ``control_curve``)."""
+def _add_verification(g: Graph, f: StudyFamily, handles: list, sug, req) -> None:
+    """``verify_runs`` per map point and sequence (the chosen point's run to the suggested coverage) and
+    ``verified_settings`` over them (:mod:`tasks.verification`)."""
+    dims = [d.name for d in f.dims]
+    nodes = []
+    for (coords, _), h in zip(f.points, handles):
+        point = {d.name: (coords[d.name] if d.labels else d.values.index(coords[d.name])) for d in f.dims}
+        with g.variant(coords):
+            runs = g.sweep(verify_runs, dims={"sequence": list(range(h["plan"].sequences))}, upstream={
+                "suggestion": sug, "rev": h["rev"], "velocity": h["velocity"], "coverage": h["coverage"]},
+                params={**h["params"], "point": point},
+                point_params=lambda c, seeds=h["plan"].seeds: {"seed": seeds[c["sequence"]]})
+            nodes += runs.nodes
+    g.settle_variants(dims)
+    g.add(verified_settings, upstream={"suggestion": sug, "runs": Group(nodes, (*dims, "sequence"))},
+          params={"requirements": req})
+
+
+def _add_point(g: Graph, p: StudyParams, handles: list | None = None):
+    """One combination's stages; the node of its answer (``residual_profile``, or ``control_curve``);
+    ``handles`` gets the target's REV, velocity, coverage and run parameters (for a verification)."""
     D = p.shot.diameter_m
     kernel = {"shot": p.shot, "fidelity": p.fidelity}
     control = final = None
@@ -256,10 +282,12 @@ def _add_point(g: Graph, p: StudyParams):
             rev_t = g.add(rev_size, upstream=thick_up, stage="target_rev", params={"rev": p.target_rev})
         cov = g.add(coverage_curve, upstream={"dent": dent, "rev": rev_t}, params={
             "settings": p.coverage, "angle_deg": angle_deg, "coverage_levels_percent": list(t.coverage_levels_percent)})
+        run_params = {**tmat, "angle_deg": angle_deg, **({"stream": p.stream} if p.stream.any else {})}
         runs_t = g.sweep(target_runs, dims={"sequence": list(range(t.sequences))},
-                         upstream={"rev": rev_t, "velocity": vel, "coverage": cov},
-                         params={**tmat, "angle_deg": angle_deg, **({"stream": p.stream} if p.stream.any else {})},
+                         upstream={"rev": rev_t, "velocity": vel, "coverage": cov}, params=run_params,
                          point_params=lambda c: {"seed": t.seeds[c["sequence"]]})
+        if handles is not None:
+            handles.append({"rev": rev_t, "velocity": vel, "coverage": cov, "params": run_params, "plan": t})
         # The release is that of a plate peened on one whole face; the stage
         # applies it only when the REV spans the part's thickness.
         final = g.add(residual_profile, upstream={"runs": runs_t, "velocity": vel, "coverage": cov},

@@ -115,6 +115,8 @@ def suggested_settings(process_map: xr.Dataset, *, requirements: RequirementPara
         verdict = (f"met: least {r.minimise} {_readable(value, units)} (band {_readable(low, units)} ... "
                    f"{_readable(high, units)}) at " + ", ".join(f"{d} {v}" for d, v in where.items()))
         met = 1
+        # the map point (index along each other dimension) and the axis value: what a verification computes
+        selected = {**{f"selected_index_{d}": int(i) for d, i in sel.items()}, f"selected_{axis}": float(at)}
     else:
         value = low = high = np.nan
         met = 0
@@ -129,6 +131,7 @@ def suggested_settings(process_map: xr.Dataset, *, requirements: RequirementPara
         margins, sel, values = worst
         where = {d: _coordinate(pmap, d, i) for d, i in sel.items()}
         misses = [f"{key} misses by {-m:.1%} of its bound" for m, (_, _, _, _, key) in zip(margins, r.bounds) if m < 0]
+        selected = {}
         verdict = ("not met by any setting in the map; closest: " + ", ".join(f"{d} {v}" for d, v in where.items())
                    + ": " + "; ".join(misses))
     units = ("1" if r.minimise == "shots" else pmap[r.minimise].attrs.get("units", "1"))
@@ -140,7 +143,7 @@ def suggested_settings(process_map: xr.Dataset, *, requirements: RequirementPara
             "flag_meanings": " ".join(key for *_, key in r.bounds)})},
         attrs={"verdict": verdict, "minimised": r.minimise, "minimised_units": units,
                "requirement_units": " ".join(u for _, u, _, _, _ in r.bounds),
-               **{f"setting_{d}": str(v) for d, v in where.items()}})
+               **{f"setting_{d}": str(v) for d, v in where.items()}, **selected})
 
 
 def _coordinate(pmap: xr.Dataset, dim: str, index: int) -> str:

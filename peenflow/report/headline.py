@@ -65,7 +65,7 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
             rows.append((f"Almen intensity, {a:g} deg, {v:g} m/s{of}", _pm(i, float(c.intensity_std_m) / MM, "mm"),
                          note))
     if graph.labels.get("process_dims"):  # a family: the map says it per point
-        rows += map_rows(get("process_map"), get("suggested_settings"))
+        rows += map_rows(get("process_map"), get("suggested_settings"), get("verified_settings"))
         fidelity = graph.result_attrs.get("peenflow_fidelity")
         if rows and fidelity:
             preset, _, mesh = fidelity.partition(": ")
@@ -132,7 +132,7 @@ def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
             rows.append((f"peak sigma_{c}{at}", _pm(m[k], s[k], "MPa", 0), f"at {z[k] * 1e3:.3f} mm depth"))
         zc, how = compressive_depth(z, prof.stress_xx_mean_Pa.values)
         rows.append((f"compressive depth (sigma_xx){at}", f"{zc * 1e3:.3f} mm" if zc is not None else "n/a", how))
-    rows += map_rows(None, get("suggested_settings"))
+    rows += map_rows(None, get("suggested_settings"), get("verified_settings"))
     fidelity = graph.result_attrs.get("peenflow_fidelity")
     if rows and fidelity:  # what made these numbers ("preset: mesh"), and its measured error
         preset, _, mesh = fidelity.partition(": ")
@@ -160,8 +160,9 @@ def point_name(pmap, sel: dict) -> str:
     return ", ".join(parts)
 
 
-def map_rows(pmap, suggestion) -> list[tuple[str, str, str]]:
-    """One row per map point (surface and peak sigma_xx, compressive depth, N_c) and the suggestion."""
+def map_rows(pmap, suggestion, verification=None) -> list[tuple[str, str, str]]:
+    """One row per map point (surface and peak sigma_xx, compressive depth, N_c), the suggestion and its
+    verification (predicted against computed) when there is one."""
     import itertools
 
     rows = []
@@ -180,4 +181,7 @@ def map_rows(pmap, suggestion) -> list[tuple[str, str, str]]:
     if suggestion is not None:
         rows.append(("suggested settings", "met" if int(suggestion.met) else "none meets",
                      suggestion.attrs.get("verdict", "")))
+    if verification is not None and int(verification.verified):
+        rows.append(("suggestion computed", "met" if int(verification.met_computed) else "missed",
+                     verification.attrs.get("verdict", "")))
     return rows

@@ -93,7 +93,7 @@ def build_report(graph, store, study_path: Path, images: list[Path], headline_ro
     from .reading import stage_or_none
 
     parts += map_section(stage_or_none(graph, store, "process_map"), stage_or_none(graph, store, "suggested_settings"),
-                         images, _table)
+                         images, _table, stage_or_none(graph, store, "verified_settings"))
     from .sensitivity_section import FIGURE as TORNADO
     from .sensitivity_section import sensitivity_section
 

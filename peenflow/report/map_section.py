@@ -80,7 +80,22 @@ def requirement_rows(suggestion) -> list[list[str]]:
     return rows
 
 
-def map_section(pmap, suggestion, images: list[Path], table) -> list[str]:
+def verification_rows(suggestion, verification) -> list[list[str]]:
+    """Per requirement: predicted by the map at the suggestion, computed there, their difference, the margin."""
+    names = verification.requirement.attrs.get("flag_meanings", "").split()
+    units = verification.attrs.get("requirement_units", "").split()
+    rows = []
+    for k, name in enumerate(names):
+        unit = units[k] if k < len(units) else "1"
+        scale, shown = {"Pa": (MPA, "MPa"), "m": (MM, "mm")}.get(unit, (1.0, ""))
+        p, c = float(verification.predicted_value.values[k]), float(verification.computed_value.values[k])
+        m = float(verification.computed_margin.values[k])
+        rows.append([_e(name), _e(f"{p / scale:.4g} {shown}"), _e(f"{c / scale:.4g} {shown}"),
+                     _e(f"{(c - p) / abs(p):+.1%}"), _e(f"{m:+.1%}" + ("" if m >= 0 else " (missed)"))])
+    return rows
+
+
+def map_section(pmap, suggestion, images: list[Path], table, verification=None) -> list[str]:
     """HTML parts of the section (nothing without a map): ``table(header, rows, num_cols)`` draws a table."""
     if pmap is None:
         return []
@@ -99,4 +114,8 @@ def map_section(pmap, suggestion, images: list[Path], table) -> list[str]:
         parts.append(f"<h3>Suggested settings</h3><p>{_e(suggestion.attrs.get('verdict', ''))}</p>")
         parts.append(table(["requirement", "value there", "margin to its bound"], requirement_rows(suggestion),
                            num_cols=(1, 2)))
+    if verification is not None and int(verification.verified):
+        parts.append(f"<h3>The suggestion computed</h3><p>{_e(verification.attrs.get('verdict', ''))}</p>")
+        parts.append(table(["requirement", "predicted by the map", "computed", "difference", "computed margin"],
+                           verification_rows(suggestion, verification), num_cols=(1, 2, 3, 4)))
     return parts

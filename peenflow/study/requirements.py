@@ -63,12 +63,15 @@ class Requirements(StudyModel):
 
     bounds: dict[str, Bound] = Field(description="feature key -> { min, max }")
     minimise: str = Field(description='a process dimension (e.g. "coverage_percent") or "shots"')
+    verify: bool = Field(False, description="compute the part at the suggested coverage and report it beside the "
+                                            "map's prediction (minimise = coverage_percent or shots)")
 
     @classmethod
     def from_table(cls, table: dict) -> "Requirements":
         """From the file's table: feature keys at the top level beside ``minimise``."""
-        bounds = {k: v for k, v in table.items() if k != "minimise"}
-        return cls.model_validate({"bounds": bounds, **({"minimise": table["minimise"]} if "minimise" in table else {})})
+        own = ("minimise", "verify")
+        bounds = {k: v for k, v in table.items() if k not in own}
+        return cls.model_validate({"bounds": bounds, **{k: table[k] for k in own if k in table}})
 
     @model_validator(mode="after")
     def _known(self) -> "Requirements":
@@ -77,4 +80,8 @@ class Requirements(StudyModel):
             raise ValueError(f"unknown feature {', '.join(unknown)}; expected one of {', '.join(FEATURES)}")
         if not self.bounds:
             raise ValueError(f"no requirement: give at least one feature bound ({', '.join(FEATURES)})")
+        if self.verify and self.minimise not in ("coverage_percent", MINIMISE_SHOTS):
+            raise ValueError(f'verify = true computes the part at a suggested coverage: it needs minimise = '
+                             f'"coverage_percent" or "{MINIMISE_SHOTS}", not {self.minimise!r} (to check a suggested '
+                             f"{self.minimise}, add that value to its list and run again)")
         return self
