@@ -146,4 +146,4 @@ def test_the_process_map_study_reuses_the_fast_paper_strips_and_maps_two_materia
     assert mapped.labels["process_dims"] == ["almen_intensity_m", "target_material"]
     assert mapped.labels["coverage_levels_percent"] == [100.0, 200.0, 400.0]
     assert len(mapped.stage_nodes("target_runs")) == 3 * 2 * 2  # intensities x materials x sequences
-    assert {"process_map", "suggested_settings"} <= set(mapped.stages)
+    assert {"process_map", "suggested_settings", "verify_runs", "verified_settings"} <= set(mapped.stages)
