@@ -6,7 +6,7 @@ import argparse
 
 from ..engine import Reporter, SchedulerUnreachable, execute
 from ..report import headline_rows, write_reports
-from ._common import UserError, add_study, load, stage_nodes
+from ._common import UserError, add_study, dim_value, load, stage_nodes
 from ._interrupts import stop_on_signals
 from .status import print_plan
 
@@ -45,6 +45,7 @@ def execute_and_report(args, graph, store, nodes, forced=frozenset()) -> int:
         print_plan(graph, store, nodes, forced, why=True)
         return 0
     reporter = Reporter(quiet=args.quiet)
+    reporter.group_by(graph.labels.get("process_dims") or [], lambda d, v: dim_value(graph, d, v))
     reporter.line(f"study {graph.name}: {len(nodes)} points, store {store.root}")
     workers = args.workers or graph.execution.get("workers")
     threads = args.threads or graph.execution.get("threads")

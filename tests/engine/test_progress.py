@@ -52,3 +52,16 @@ def test_the_runs_eta_is_never_shorter_than_a_running_points():
     r.progress("rev", {"done": 100, "total": 1000, "unit": "shots", "time": now, "started": now - 20, "base": 0})
     m = re.search(r"points 3/4 done, \S+ elapsed, ETA (\d+)m(\d+)s", r.overall())
     assert m and 170 <= 60 * int(m.group(1)) + int(m.group(2)) <= 180, r.overall()
+
+
+def test_the_runs_line_counts_the_points_of_each_value_of_a_followed_dimension():
+    r = Reporter(stream=io.StringIO(), live=False)
+    r.group_by(["material"], lambda d, v: ["steel", "titanium"][v])
+    nodes = [SimpleNamespace(stage="shared", node_id="shared", coords={})]  # reached by no value: not counted
+    nodes += [SimpleNamespace(stage="run", node_id=f"run[material={m},sequence={s}]", coords={"material": m,
+                                                                                            "sequence": s})
+              for m in (0, 1) for s in (0, 1, 2)]
+    r.expect(nodes)
+    for n in nodes[:3]:  # the shared point, then two of steel's three
+        r.outcome(Outcome(n.node_id, n.stage, "", n.coords, "t", "k", "computed", "missing", wall_s=0.1))
+    assert r.overall().endswith("; by material: steel 2/3, titanium 0/3"), r.overall()
