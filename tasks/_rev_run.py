@@ -126,10 +126,15 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
     impacts = K.ImpactRun(target, material_k, options, state=state)
     last_save = [time.time()]
 
+    # the shots the run is expected to need, for its progress and ETA: the ladder's end, or for a
+    # self-extending ladder (a cap, not a plan) the first rung at >= 2 T of the fit to the rungs so far
+    planned = [ladder[0] if extend else ladder[-1]]
+
     def shot_done(i):
         if ctx is None:
             return
-        ctx.progress(i + 1, ladder[-1], "shots")
+        note = f"ladder expected to stop at {planned[0]} of at most {ladder[-1]}" if extend else ""
+        ctx.progress(i + 1, planned[0], "shots", note)
         if ctx.stop_requested:
             checkpoint(impacts.checkpoint())
             ctx.stop(f"after shot {i + 1} of {ladder[-1]}")
@@ -157,8 +162,11 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
             if ctx is not None:
                 checkpoint(impacts.checkpoint())
                 last_save[0] = time.time()
-        if extend and (verdict := _verdict(means, run, z_edges, extend)).stop:
-            break
+        if extend:
+            verdict = _verdict(means, run, z_edges, extend)
+            if verdict.stop:
+                break
+            planned[0] = expected_end(ladder, n, verdict.saturation_shots)
     records = impacts.records  # named fields (peenflow.fe.records.ShotRecord)
 
     ladder_vars = {}
@@ -188,6 +196,18 @@ def run_rev(ctx, *, material: MaterialParams, shot: ShotParams, fidelity: Fideli
         attrs={"rev_side_m": side_m, "measure_side_m": measure_side_m, "thickness_m": thickness_m,
                "n_elements": int(mesh.n_elements), "seed": int(seed), **stop_reason},
     )
+
+
+def expected_end(ladder: list, done: int, saturation_shots: float) -> int:
+    """The rung a self-extending ladder is expected to stop at, after rung ``done``: the first at >= 2 T
+    (eq. 11's saturation point T of the fit so far), at least the next rung; the next rung while T is
+    unknown (NaN: fewer than 3 rungs, or no fit yet); the last rung when T lies beyond the ladder."""
+    later = [n for n in ladder if n > done]
+    if not later:
+        return done
+    if not np.isfinite(saturation_shots):
+        return later[0]
+    return next((n for n in later if n >= 2.0 * saturation_shots), ladder[-1])
 
 
 _CHECKPOINT_VARS = ("rung", "rung_mean", "rung_spread", "rung_plastic", "kernel__x", "kernel__shot_index")
