@@ -612,30 +612,26 @@ class _Loader:
     def check_strips(self, file: Path, target: Target) -> None:
         """Read the measured strips once; the target keeps them (their intensity is solved with the stage
         parameters, and a set no fit can use is refused there, before compute)."""
-        key = "target.almen_strips_csv"
-        if not file.is_file():
-            self.add(key, "measured strips not found; expected an existing CSV file (or \"\" for none)",
-                     value=str(file))
-            return
-        try:
-            target._strips = read_almen_strips(file)
-        except AlmenStripsError as exc:
-            for problem in exc.problems:
-                self.add(key, problem)
+        target._strips = self._read_csv("target.almen_strips_csv", "measured strips", file, read_almen_strips,
+                                        AlmenStripsError)
 
     def check_profile(self, file: Path, target: Target) -> None:
         """Parse the measured profile once; the target keeps it (the pipeline
         and the result key use what was validated here)."""
-        key = "target.measured_profile_csv"
+        target._measured = self._read_csv("target.measured_profile_csv", "measured profile", file,
+                                          read_measured_profile, ProfileError)
+
+    def _read_csv(self, key: str, what: str, file: Path, read, error):
+        """``read(file)``, or None with each of its problems (``error.problems``) reported under ``key``."""
         if not file.is_file():
-            self.add(key, "measured profile not found; expected an existing CSV file (or \"\" for none)",
-                     value=str(file))
-            return
+            self.add(key, f"{what} not found; expected an existing CSV file (or \"\" for none)", value=str(file))
+            return None
         try:
-            target._measured = read_measured_profile(file)
-        except ProfileError as exc:
+            return read(file)
+        except error as exc:
             for problem in exc.problems:
                 self.add(key, problem)
+            return None
 
 
 def _nested_model(annotation):

@@ -11,15 +11,11 @@ import pytest
 import peenflow
 import peenflow.api
 
+from .conftest import cli as peenflow_cli
+
 HERE = Path(__file__).parent
 
 
-def peenflow_cli(*args, check=True):
-    proc = subprocess.run([sys.executable, "-m", "peenflow.cli", *map(str, args)], capture_output=True, text=True,
-                          timeout=900)
-    if check and proc.returncode != 0:
-        raise AssertionError(proc.stdout + proc.stderr)
-    return proc
 
 
 def test_strip_arc_height_grows_with_shots_and_velocity(micro):

@@ -6,8 +6,6 @@ from __future__ import annotations
 
 import re
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +13,8 @@ import pytest
 import xarray as xr
 
 import peenflow
+
+from .conftest import cli
 import peenflow.api
 from peenflow.study import load_study
 from peenflow.testing import assert_cf_variables
@@ -26,12 +26,6 @@ HERE = Path(__file__).parent
 MAP = (HERE / "micro_map.toml").read_text()
 
 
-def cli(*args, check=True):
-    proc = subprocess.run([sys.executable, "-m", "peenflow.cli", *map(str, args)], capture_output=True, text=True,
-                          timeout=900)
-    if check and proc.returncode != 0:
-        raise AssertionError(proc.stdout + proc.stderr)
-    return proc
 
 
 @pytest.fixture(scope="module")

@@ -8,26 +8,19 @@ scales with the flow stress); a harder one the reverse; the velocity for the int
 from __future__ import annotations
 
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 import peenflow
+
+from .conftest import cli
 
 HERE = Path(__file__).parent
 FRICTION = ("shot.friction_coefficient@0.1", "shot.friction_coefficient@0.4")
 SOFT, HARD = "materials.Al7075-T73.johnson_cook.A_MPa@300", "materials.Al7075-T73.johnson_cook.A_MPa@600"
 
 
-def cli(*args, check=True):
-    proc = subprocess.run([sys.executable, "-m", "peenflow.cli", *map(str, args)], capture_output=True, text=True,
-                          timeout=900)
-    if check and proc.returncode != 0:
-        raise AssertionError(proc.stdout + proc.stderr)
-    return proc
 
 
 @pytest.fixture(scope="module")

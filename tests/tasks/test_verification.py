@@ -8,9 +8,6 @@ deepens with coverage); a verification that cannot be made is refused before com
 from __future__ import annotations
 
 import math
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -18,16 +15,12 @@ import pytest
 
 import peenflow
 
+from .conftest import cli
+
 HERE = Path(__file__).parent
 MAP = (HERE / "micro_map.toml").read_text()
 
 
-def cli(*args, check=True):
-    proc = subprocess.run([sys.executable, "-m", "peenflow.cli", *map(str, args)], capture_output=True, text=True,
-                          timeout=900)
-    if check and proc.returncode != 0:
-        raise AssertionError(proc.stdout + proc.stderr)
-    return proc
 
 
 def _study(d: Path, name: str, requirements: str) -> Path:
