@@ -43,13 +43,13 @@ FEATURES = (("surface sigma_xx", "MPa"), ("peak compressive sigma_xx", "MPa"), (
 def _features(runs) -> np.ndarray:
     """(sequences, 4): each sequence's sigma_xx profile features at the study's (first) coverage level, in
     MPa and mm (``runs``: the target_runs of one stream)."""
-    z = runs.depth_m.values
+    z = np.asarray(runs.depth_m.values).reshape(-1, runs.sizes["layer"])[0]
     out = []
     for k in range(runs.sizes["sequence"]):
         prof = runs.stress_xx_Pa.isel(sequence=k)
         if "coverage_percent" in prof.dims:
             prof = prof.isel(coverage_percent=0)
-        s = prof.values.ravel()
+        s = prof.transpose(..., "layer").values.reshape(-1, runs.sizes["layer"])[0]
         i = int(np.argmin(s))
         depth, _ = compressive_depth(z, s)
         out.append([s[0] * 1e-6, s[i] * 1e-6, z[i] * 1e3, np.nan if depth is None else depth * 1e3])
