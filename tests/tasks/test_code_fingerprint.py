@@ -32,7 +32,7 @@ def _stage_tasks() -> dict[str, Task]:
 
 ALL = {"arc_height", "control_curve", "coverage_curve", "dmin", "indentation", "intensity_extrapolation",
        "process_map", "residual_profile", "rev_size", "rev_thickness", "saturation", "single_impact", "strip_runs",
-       "suggested_settings", "target_runs", "target_velocity"}
+       "sensitivity", "suggested_settings", "target_runs", "target_velocity", "verified_settings", "verify_runs"}
 
 
 @pytest.mark.parametrize("module, dependants", [
