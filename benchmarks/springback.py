@@ -1,6 +1,6 @@
 """Spring-back (the global static relaxation of a snapshot) against the impacts: its cost and error,
 on a single impact, the strip REV and the REVs a study builds (prints its figures; not a test;
-BENCHMARKS.md section 2, "Spring-back cost", "Spring-back on the REVs a study makes").
+docs/performance.md section 3, "Cost and error against a strict solve", "On the REVs a study makes").
 
 Usage (from the repository root; one thread, one BLAS thread)::
 

@@ -36,7 +36,7 @@ against direct probes). The operator applies each element in modal form
 of the box element's uniform-strain and hourglass blocks, written out in
 :func:`apply_k_box`; :func:`apply_k_modal` with index lists for any other
 pattern): the same operator as the dense 24 x 24 product to round-off,
-4x faster (BENCHMARKS.md section 2, "Spring-back cost").
+4x faster (docs/performance.md section 3, "Multigrid setup").
 
 Cycle. Symmetric V-cycle: Chebyshev smoothing (polynomial in D^-1 K over
 ``[hi / CHEB_RATIO, hi]``, ``hi = 1.15 lambda_max``, ``lambda_max`` by power
