@@ -62,7 +62,8 @@ import numpy as np
 from peenflow.fe import solver as S
 from peenflow.fe.element import element_rows, element_rows_parallel
 from peenflow.fe.model import PhaseResult
-from peenflow.fe.multigrid import dot, mask_fixed, pcg
+from peenflow.fe.boundary import mask_fixed
+from peenflow.fe.multigrid import dot, pcg
 from peenflow.fe.safety import check_status
 from peenflow.fe.state import KernelState
 
