@@ -104,6 +104,13 @@ which numba cannot inline.
 
 Each pass is compiled twice from one source, serial and ``parallel=True``
 (``element_rows_parallel``; :func:`peenflow._jit.jit_twins`).
+
+Length: one element and its vectorised pass. About 110 lines are this
+docstring (the element's equations); the algebra helpers, which the
+per-element reference shares, are ``inline="always"`` pieces of the passes'
+loop bodies; and ``_row`` (~360 lines) computes both hourglass forms in one
+branch-free lane loop, blended by 0/1 weights, over one scratch layout whose
+offsets are defined here.
 """
 
 from __future__ import annotations

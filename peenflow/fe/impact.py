@@ -43,6 +43,11 @@ bring the landing point to the middle of the mesh, and rolled back once the
 shot has settled (:mod:`peenflow.fe.periodic`). The recorded window
 (``win_*``) is in the target's frame and may extend past the mesh (it
 wraps); recorded shot centres likewise. No symmetric mass fraction applies.
+
+Length: the kernel's public door in one place. A quarter of the file is
+:class:`Options`, mostly the documentation of its fields (units, defaults and
+the measurements behind them) and their checks, which are read with the driver
+that uses them; the rest is the run's records and the driver's steps.
 """
 
 from __future__ import annotations
