@@ -10,7 +10,7 @@ for variations given as ``key=value`` Options overrides:
     python benchmarks/dense_sequence.py 50e-6 80
     python benchmarks/dense_sequence.py 50e-6 80 hourglass_plastic_floor=1.0 dt_safety=0.4
 
-Findings in BENCHMARKS.md section 2 ("Dense sequences").
+Findings in docs/validation.md section 8 ("Dense sequences").
 """
 
 from __future__ import annotations

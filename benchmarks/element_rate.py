@@ -1,4 +1,5 @@
-"""Element-pass throughput of the kernel (prints its figures; not a test; BENCHMARKS.md section 1).
+"""Element-pass throughput of the kernel (prints its figures; not a test;
+docs/performance.md section 1).
 
 Usage (from the repository root)::
 

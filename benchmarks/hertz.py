@@ -1,5 +1,5 @@
 """Elastic impacts against Hertz: convergence with a / h, domain extent and the target's inertia, and
-the mesh layout (prints its figures; not a test; BENCHMARKS.md section 3).
+the mesh layout (prints its figures; not a test; docs/validation.md section 2).
 
 Usage (from the repository root)::
 

@@ -18,7 +18,7 @@ height at 480 shots; every curve side by side (the literal levels, the literal c
 to zero element size from its mean-curve intensities and as the study's paired stage does it, our
 levels and ours extrapolated); the velocity for 12A (0.30 mm) of each (PCHIP inverse, as the
 target_velocity stage; for a curve wholly above 0.30 mm also where the line through its two
-lowest points reaches it), the converged reference's (BENCHMARKS.md §9) and the paper's 47 m/s.
+lowest points reaches it), the converged reference's (docs/validation.md section 9) and the paper's 47 m/s.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
-"""Plastic single impacts on the section-4 box: dents under refinement, the rate term on and off, and both
-hourglass forms (prints its figures; not a test; BENCHMARKS.md section 4).
+"""Plastic single impacts on the box of docs/validation.md section 3: dents under refinement, the
+rate term on and off, and both hourglass forms (prints its figures; not a test).
 
 Usage (from the repository root)::
 
@@ -80,7 +80,7 @@ def plastic_table():
 
 
 def hourglass_forms() -> None:
-    """The setup of BENCHMARKS.md section 4 (box 1.2 x 1.2 x 0.6 mm, fine zone 0.3 x 0.3 x 0.1 mm,
+    """The setup of docs/validation.md section 3 (box 1.2 x 1.2 x 0.6 mm, fine zone 0.3 x 0.3 x 0.1 mm,
     window on, rate term on), both forms at 25 / 12.5 / 6.25 um: the physical element against the
     stiffness form's 6.25 um dent reference there (6.05 / 13.46 um extrapolated)."""
     from peenflow.fe.mesh import graded_box

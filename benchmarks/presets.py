@@ -10,7 +10,7 @@ Reads the study-level reference levels (``peenflow/validation/data/study_level.j
 preset's settings, with paired shot streams); the errors and the references are those of
 :mod:`peenflow.validation.study_level`. The error of a preset is that of its element size
 (``coarse`` 60 um, ``standard`` 40 um, ``paper`` 25 um): the presets' other settings (window,
-grading) were measured separately at the single-impact level (BENCHMARKS.md §4c, §2).
+grading) were measured separately at the single-impact level (docs/validation.md sections 4 and 6).
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Single-impact accuracy of the kernel's element against converged references (prints its tables; not
-a test): the runs, and the tables of BENCHMARKS.md section 4c made from them.
+a test): the runs, and the tables of docs/validation.md section 4 made from them.
 
 The cases, the block, the figures and the references: :mod:`peenflow.validation.single_impact` and
 :mod:`peenflow.validation.readings`. Every run is stored: summarised in the package's
@@ -164,7 +164,7 @@ def offset_table(sizes=OFFSET_SIZES) -> None:
 def cores(h_um: float = 25.0, variants=CORES) -> None:
     """A finer core under the shot on the ``h_um`` block (:func:`block`): each case with each core of
     ``variants``, stored, against the references, beside the uniform runs at ``h_um`` and at the core's
-    size (BENCHMARKS.md 4c, "A finer core under the shot")."""
+    size (docs/validation.md section 4, "A finer core under the shot")."""
     stored = set(_load())
     for case in CASES:
         for c in variants:
@@ -211,7 +211,7 @@ def study_cores(h_um: float = 25.0, sizes=STUDY_CORES, fine_mm: float = FINE_ZON
     1.5 estimated contact radii either side of the aim, one deep, graded back to ``h_um`` within the
     block's ratio 1.2) on the ``h_um`` block with a fine zone of ``fine_mm`` (:func:`block`), each case,
     stored, against the references beside the uniform runs at ``h_um`` and at the core's size
-    (BENCHMARKS.md 4c, "A finer core under the shot"). With a fine zone other than the tables' 0.3 mm
+    (docs/validation.md section 4, "The cores a study makes"). With a fine zone other than the tables' 0.3 mm
     the uncored ``h_um`` block of that fine zone is run and shown too: what the wider zone alone does."""
     stored = set(_load())
     wider = fine_mm != FINE_ZONE_MM
@@ -244,7 +244,7 @@ def study_cores(h_um: float = 25.0, sizes=STUDY_CORES, fine_mm: float = FINE_ZON
 
 
 def goals_table() -> None:
-    """:func:`goals` as the tables of BENCHMARKS.md 4c, "Issue 13 §1 goal by goal"."""
+    """:func:`goals` as the tables of docs/validation.md section 4, "Goal by goal"."""
     rows = goals()
     label = {"dent_um": "dent", "dent_radius_mm": "dent radius", "sxx_peak_mpa": "σxx peak",
              "zero_depth_mm": "zero crossing", "crest_radius_mm": "crest radius", "crest_height_um": "crest height",

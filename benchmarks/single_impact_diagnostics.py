@@ -1,7 +1,7 @@
 """Where the single impact's remaining errors come from (prints its tables; not a test; every run is
 made here and not stored): friction and the 45 deg profile, the normal dents' elastic recovery,
-thinner surface layers (BENCHMARKS.md section 4c, "Why the 45 deg profile misses", "What the normal
-dents miss", "Thinner surface layers").
+thinner surface layers (docs/validation.md section 4, "Why the 45° profile misses",
+"What the normal dents miss", "Thinner surface layers").
 
 The cases and the figures: :mod:`peenflow.validation.single_impact`, :mod:`peenflow.validation.readings`;
 the references: the stored runs (``peenflow/validation/data/single_impact.json``).
@@ -45,7 +45,7 @@ def hump(v: dict) -> tuple[float, float]:
 def friction_hump() -> None:
     """The 45 deg case with and without friction at 25 and 12.5 um (runs not stored), and the hump of
     every stored 45 deg run: where friction puts the compressive zone, against the element size
-    (BENCHMARKS.md 4c, "Why the 45 deg profile misses")."""
+    (docs/validation.md section 4, "Why the 45° profile misses")."""
     ref, _ = reference(runs.load("single_impact"), "sae-55-45")
     print("| friction | h um | hump x mm (MPa) | dent centre um | dent | σxx peak | profile RMS against the "
           "reference (friction 0.2) | vout_x m/s |")
@@ -72,7 +72,7 @@ def recovery(cases=("sae-25-90", "sae-55-90"), sizes=(50.0, 25.0, 12.5, 6.25)) -
     largest approach (its lowest point's travel into the target, um), the residual dent read between
     nodes, the elastic recovery between them, the peak force and the contact radius (Hertz-equivalent
     sqrt(5/2 <r^2>) of the nodal normal impulses at peak force; and the outermost contact node's radius)
-    (BENCHMARKS.md 4c, "What the normal dents miss")."""
+    (docs/validation.md section 4, "What the normal dents miss")."""
     print("| case | h um | max approach um | residual dent um | recovery um | peak force N | "
           "contact radius um (Hertz-equivalent / outermost node) | CPU s |")
     print("|---|---|---|---|---|---|---|---|")
@@ -87,7 +87,7 @@ def recovery(cases=("sae-25-90", "sae-55-90"), sizes=(50.0, 25.0, 12.5, 6.25)) -
 def variants() -> None:
     """Mesh variants at about the 25 um cost, not stored: the 25 um block with thinner top layers
     (depth / thickness um) and a uniform 20 um mesh, all on the half model, node-aimed, against the references
-    (BENCHMARKS.md 4c, "Thinner surface layers")."""
+    (docs/validation.md section 4, "Thinner surface layers")."""
     data = runs.load("single_impact")
     rows = [("sae-55-45", None), ("sae-55-45", (25, 12.5)), ("sae-55-45", (50, 12.5)), ("sae-55-45", (100, 12.5)),
             ("sae-55-45", (150, 12.5)), ("sae-55-45", (50, 6.25))]

@@ -1,6 +1,7 @@
 """How far the single-impact readings themselves are from the truth (prints its tables; not a test):
 the converged 6.25 um runs' own fields taken at a coarser spacing against themselves in full, what no
-element at that spacing can read closer (BENCHMARKS.md section 4c, the surface and profile readings).
+element at that spacing can read closer (docs/validation.md section 4,
+"The metrics on known data").
 
 Reads only the stored runs (``peenflow/validation/data/single_impact.json``); the readings:
 :mod:`peenflow.validation.readings`.

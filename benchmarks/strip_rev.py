@@ -1,5 +1,6 @@
 """One impact on the strip REV, and n shots: the window against the full mesh, the global
-relaxation, the settle's at-rest criterion (prints its figures; not a test; BENCHMARKS.md section 2).
+relaxation, the settle's at-rest criterion (prints its figures; not a test;
+docs/validation.md section 6; docs/performance.md sections 2 and 3).
 
 Usage (from the repository root)::
 

@@ -12,7 +12,7 @@ script reads that stage and prints, per (angle, velocity), the two levels and th
 intensity with the number of sequences each level ran; the velocity for 12A per angle from
 each level's curve and from the extrapolated one (the ``target_velocity`` stage's PCHIP inverse);
 and, where the study's points coincide with the study-level reference points (67.5 deg at 25 and
-35 m/s, 90 deg at 55 m/s; BENCHMARKS.md §9), each intensity's error, and the 67.5 deg 12A
+35 m/s, 90 deg at 55 m/s; docs/validation.md section 9), each intensity's error, and the 67.5 deg 12A
 velocity's error against the converged one (PCHIP through the references' 25 / 30 / 35 m/s).
 The study's seeds differ from the references', so these errors include the sequences' sampling.
 """

@@ -1,5 +1,5 @@
 """The impact window against the full mesh: its error, its cost and its minimum size (prints its figures;
-not a test; BENCHMARKS.md section 2, "Window error", "Window minimum size").
+not a test; docs/validation.md section 6, "Window variants", "Slow shots").
 
 Usage (from the repository root)::
 

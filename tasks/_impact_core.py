@@ -10,16 +10,17 @@ impact point (along and across the stream) and ``CORE_DEPTH_CONTACT_RADII``
 deep, then grown by at most the study's grading ratio back to h before the
 fine zone ends; outside the fine zone the nodes are the block's own.
 
-Why these sizes (BENCHMARKS.md 4c, "A finer core under the shot"): on four
-impacts (25 and 55 m/s normal and 55 m/s at 45° on SAE 1070, 47 m/s at 65° on
-Al 7075-T73) a core 150 µm wide and 100 µm deep — 1.25–2.2 and 0.84–1.46
+Why these sizes (docs/validation.md section 4, "A finer core under the shot"):
+on four impacts (25 and 55 m/s normal and 55 m/s at 45° on SAE 1070, 47 m/s at
+65° on Al 7075-T73) a core 150 µm wide and 100 µm deep — 1.25–2.2 and 0.84–1.46
 estimated contact radii — reproduced the uniform h_c mesh within 0.5 points on
 dent depth and radius, σxx peak, zero crossing, crest radius and height and
 restitution; a wider or deeper core changed nothing beyond 1 point. The crest
 lies at 1.04–1.16 estimated contact radii, inside 1.5. The cores this module
-makes (BENCHMARKS.md 4c, "The cores a study makes") match the uniform mesh of
-their size within 0.6 points on the same four cases; a 6.25 µm core in the
-25 µm block meets every 25 µm goal of issue 13 at half the uniform CPU.
+makes (docs/validation.md section 4, "The cores a study makes") match the
+uniform mesh of their size within 0.6 points on the same four cases; a 6.25 µm
+core in the 25 µm block meets every 25 µm goal of issue 13 at half the uniform
+CPU.
 """
 
 from __future__ import annotations

@@ -21,6 +21,10 @@ kg m-3, m s-1, s), and each dataclass has
 No default is set here a second time: a value the study leaves out is the
 study schema's default (``peenflow.study``), or -- where the study says
 nothing (``room_temperature_K`` without a thermal term) -- the kernel's own.
+
+Length: the one translation, kept whole on purpose: every stage's typed
+record (about twenty, each a few fields with its unit) and the functions that
+fill them are in this module so that no unit is converted anywhere else.
 """
 
 from __future__ import annotations

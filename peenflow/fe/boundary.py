@@ -45,6 +45,17 @@ def tied_master(n, b, nnx, nny):
         m -= nnx * (nny - 1)
     return m
 
+
+@jit
+def mask_fixed(r, bc):
+    """Zero the fixed dofs (``bc`` bits) of ``r`` (n_nodes, 3) in place."""
+    for n in range(r.shape[0]):
+        b = bc[n]
+        for c in range(3):
+            if b & (1 << c):
+                r[n, c] = 0.0
+
+
 _LATERAL = ("symmetric", "free", "periodic")
 _BOTTOM = ("fixed", "free")
 

@@ -21,7 +21,7 @@ contact adds 0.3-3.6x the contact's steps (micro target, 100 um, 5 / 45 /
 relaxed snapshots of a REV run are not counted, while the elastic elements
 of a window update 2-3x faster than the rate assumed.  On the shipped
 studies' costliest kinds of point the prediction is 1.7-2.1x the CPU time
-measured (BENCHMARKS.md, study table, 2 shared cores): the 25 um REV run of
+measured (docs/performance.md section 7, 2 shared cores): the 25 um REV run of
 paper_fast_25um.toml, 369 shots, 1108 s predicted, 520 s measured; the
 6.25 um single impact of paper_fast_extrapolated.toml, 366 s and 218 s.  It
 is an estimate for refusing what no worker can afford, not a schedule.
@@ -48,7 +48,7 @@ from peenflow.fe.shots import Shots
 from peenflow.fe.window import contact_estimates
 
 #: element updates per second of CPU the CPU-time estimate assumes: the plastic element pass on one
-#: core (BENCHMARKS.md section 1: 4.6-6.5 M/s; the elastic pass is 2-3x faster)
+#: core (docs/performance.md section 1: 4.6-6.5 M/s; the elastic pass is 2-3x faster)
 ELEMENT_UPDATES_PER_CPU_S = 5.0e6
 
 

@@ -89,7 +89,7 @@ tests/fe/test_element.py):
   under ``prange`` and, each row being done in ``i`` order by one thread,
   the summation order is the same for any thread count (bit-identical
   results on 1 and 2 threads). ~4x faster than the per-element version on
-  one thread when elastic (BENCHMARKS.md section 1).
+  one thread when elastic (docs/performance.md section 1).
 * :func:`peenflow.fe.element_reference.element_pass`: one element at a time
   in 8 colours (parity of ``i, j, k``); the reference implementation, in its
   own module (tests and benchmarks only).
@@ -104,6 +104,13 @@ which numba cannot inline.
 
 Each pass is compiled twice from one source, serial and ``parallel=True``
 (``element_rows_parallel``; :func:`peenflow._jit.jit_twins`).
+
+Length: one element and its vectorised pass. About 110 lines are this
+docstring (the element's equations); the algebra helpers, which the
+per-element reference shares, are ``inline="always"`` pieces of the passes'
+loop bodies; and ``_row`` (~360 lines) computes both hourglass forms in one
+branch-free lane loop, blended by 0/1 weights, over one scratch layout whose
+offsets are defined here.
 """
 
 from __future__ import annotations
@@ -330,8 +337,9 @@ def hourglass_omega2_factor(mat):
     element's volumetric mode (tests/fe/test_hourglass.py), so the step is set
     by the uniform-strain estimate ``2 c / l``, which a free element's volumetric
     mode exceeds (omega dt = 2.7 for a cube); the kernel's safety margin was
-    measured with the stiffness form's default term (BENCHMARKS.md 4b, 135
-    cases), so the physical form keeps at least that term and the same step.
+    measured with the stiffness form's default term (docs/validation.md
+    section 8, "The sweep": 135 cases at 25-400 m/s), so the physical form
+    keeps at least that term and the same step.
     """
     lam = mat[M_LAM]
     mu = mat[M_MU]

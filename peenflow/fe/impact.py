@@ -24,7 +24,7 @@ Event-driven time (one shot at a time, in the given order):
 2. Impact phase on the ACTIVE WINDOW (``options.window``), an element box
    around the landing point sized in estimated contact radii, elements and
    wave travel, held or viscous-spring faces (:mod:`peenflow.fe.window`;
-   measured errors there and in BENCHMARKS.md section 2); elements outside
+   measured errors there and in docs/validation.md section 6); elements outside
    are not integrated. ``window=False`` integrates the whole mesh.
 3. When the shot has left (no node in contact, moving away) the window is
    damped (mass-proportional, :meth:`Model.settle_alpha`) until AT REST:
@@ -43,6 +43,11 @@ bring the landing point to the middle of the mesh, and rolled back once the
 shot has settled (:mod:`peenflow.fe.periodic`). The recorded window
 (``win_*``) is in the target's frame and may extend past the mesh (it
 wraps); recorded shot centres likewise. No symmetric mass fraction applies.
+
+Length: the kernel's public door in one place. A quarter of the file is
+:class:`Options`, mostly the documentation of its fields (units, defaults and
+the measurements behind them) and their checks, which are read with the driver
+that uses them; the rest is the run's records and the driver's steps.
 """
 
 from __future__ import annotations
@@ -82,7 +87,7 @@ class Options:
     hourglass_type : hourglass control of the one-point hexahedron: "physical"
       (default: assumed-strain stabilisation from the element's elastic-plastic
       tangent, co-rotational, no coefficient; pure bending exact; single-impact
-      errors BENCHMARKS.md section 4c) or "stiffness" (Flanagan-Belytschko
+      errors docs/validation.md section 4) or "stiffness" (Flanagan-Belytschko
       stiffness form with ``hourglass`` and ``hourglass_plastic_floor``, the
       default before 2026-12: dent -5.8 % instead of -2.4 % at 25 um, 55 m/s).
     hourglass : Flanagan-Belytschko stiffness coefficient Q_hg (stiffness form only).
@@ -98,7 +103,7 @@ class Options:
       2 x 2 x 1), which meets a limit of the element pass (one element thick:
       no stable step, "NaN or Inf"). 3, not more: on the 100 um micro study
       6 made every window the whole 12-element REV and changed its arc-height
-      curves (BENCHMARKS.md section 2, "Window minimum size").
+      curves (docs/validation.md section 6, "Slow shots").
     window_min_wave : ... and at least this fraction of the distance a
       dilatational wave travels during the estimated contact (``c_p t_c``):
       the held faces must not sit much closer, in wave transit, than in the
@@ -115,7 +120,7 @@ class Options:
       with half-space + slab springs on top of the frozen reaction that held
       them, :func:`peenflow.fe.window.viscous_spring_boundary`; face nodes next to already
       yielded elements stay held). Better for a single impact, worse in
-      sequences (BENCHMARKS.md section 2), hence not the default.
+      sequences (docs/validation.md section 6, "In a sequence"), hence not the default.
     boundary_spring, boundary_dashpot : scale the viscous-spring boundary's
       springs / dashpots (1 = the standard values).
     boundary_slab : scales the springs' slab term (stiffness of the exterior
@@ -136,11 +141,11 @@ class Options:
       impact energy: static -- estimated elastic energy of the remaining force
       imbalance (1/2 r . K^-1 r); dynamic -- kinetic energy. Default 1e-7:
       averaged residual profile within 0.04 % of its peak of a strict
-      reference either way (BENCHMARKS.md).
+      reference either way (docs/performance.md section 3).
     relax_cg_rtol, relax_max_outer : static method: relative residual of each
       linear (CG + multigrid) solve (0.3: loose, 1-3 V-cycles; the outer loop
       corrects on the true forces, so a tighter inner solve only costs
-      V-cycles, BENCHMARKS.md section 2), most corrections before falling
+      V-cycles, docs/performance.md section 3), most corrections before falling
       back to dynamic relaxation.
     relax_damping, relax_v_fraction : dynamic method: damping factor (x pi
       c_s / L), max speed <= relax_v_fraction x the largest shot speed.
@@ -149,7 +154,8 @@ class Options:
       result fields are the unrelaxed final state; for timing and callers
       that relax themselves).
     threads : numba threads for the element loop (1 = serial kernel).
-    precision : "float64" (only option implemented; float32 measured and not kept, BENCHMARKS.md section 1).
+    precision : "float64" (only option implemented; float32 measured and not
+      kept, docs/performance.md section 1).
     record : keep per-step histories (contact force, shot trajectory, energies).
     record_every : record one step in this many.
     max_steps : step budget per phase.
@@ -223,8 +229,9 @@ class Options:
         if self.precision != "float64":
             raise NotImplementedError(
                 f"precision={self.precision!r}: only 'float64' is implemented. float32 state was measured "
-                "(BENCHMARKS.md section 1: ~19 % less CPU per impact, residual stresses within 1e-5) but not "
-                "adopted: it needs a dtype-generic solver and a second, uncached copy of the element kernel")
+                "(docs/performance.md section 1: ~19 % less CPU per impact, residual stresses within 1e-5) "
+                "but not adopted: it needs a dtype-generic solver and a second, uncached copy of the element "
+                "kernel")
         for name, allowed in (("hourglass_type", ("physical", "stiffness")),
                               ("relax_method", ("static", "dynamic")), ("window_boundary", ("held", "viscous-spring")),
                               ("boundary_settle", ("spring", "viscous-spring", "held"))):

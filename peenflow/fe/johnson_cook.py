@@ -30,7 +30,7 @@ Cost when ``C = 0`` and ``m = 0``: elastic elements compare ``q`` with the
 stored static flow stress only (no ``pow``/``log``); yielding elements skip
 the rate and thermal terms (``RATE``/``THERMAL`` flags are loop-invariant and
 only read inside the return mapping, and the branch is perfectly predicted).
-The plastic-impact table of BENCHMARKS.md shows the same wall time with the
+The plastic-impact table of docs/validation.md section 3 shows the same wall time with the
 rate term on and off.
 
 Material parameters travel to numba as one float64 vector, see

@@ -12,7 +12,7 @@ elements (:func:`roll`, by :func:`seam_shift`) to bring the landing point to
 the middle of the mesh, runs the shot with an ordinary window and rolls back
 once it has settled. The shot's contact zone must fit in half a period
 (ValueError otherwise). Effect against symmetric faces on a REV:
-BENCHMARKS.md section 2.
+docs/validation.md section 7; its cost: docs/performance.md section 4.
 """
 
 from __future__ import annotations

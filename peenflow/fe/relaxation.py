@@ -29,7 +29,7 @@ windows used during the impacts. Two methods (``Options.relax_method``):
     correction; the outer loop corrects on the true forces anyway) reaches
     the accuracy that 0.01 with ``relax_cg_rtol = 1e-2`` had (10x closer to a
     strict reference than dynamic relaxation at the same ``relax_ke_fraction``)
-    in half the V-cycles (BENCHMARKS.md section 2, "Spring-back cost").
+    in half the V-cycles (docs/performance.md section 3, "Cost and error against a strict solve").
     Plasticity is not frozen: an
     element that the correction loads past yield goes through the same
     return map as in dynamic relaxation. If the outer loop does not converge
@@ -62,7 +62,8 @@ import numpy as np
 from peenflow.fe import solver as S
 from peenflow.fe.element import element_rows, element_rows_parallel
 from peenflow.fe.model import PhaseResult
-from peenflow.fe.multigrid import dot, mask_fixed, pcg
+from peenflow.fe.boundary import mask_fixed
+from peenflow.fe.multigrid import dot, pcg
 from peenflow.fe.safety import check_status
 from peenflow.fe.state import KernelState
 

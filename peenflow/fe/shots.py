@@ -111,7 +111,8 @@ def time_to_contact(xs, centre, vel, radius):
     first touched. Treating such a start as contact at t = 0 instead let the
     kinematic contact snap the overlapped nodes out in one step, an
     unphysical impulse that showed up as energy-balance errors of up to
-    0.3 impact energies in dense sequences (BENCHMARKS.md section 2).
+    0.3 impact energies in dense sequences
+    (docs/validation.md section 8, "Dense sequences").
     """
     a = vel[0] ** 2 + vel[1] ** 2 + vel[2] ** 2
     best = math.inf

@@ -18,12 +18,15 @@ waves that held faces send back to the contact, springs carry the slow
 contact load and the residual field, starting from the reaction that held
 the faces; once the shot has left, the exterior elements on the faces are
 told how far the faces moved (:func:`exterior_update`). It halves the
-single-impact window error but is worse than held faces in sequences (strip
-REV, 4 shots: profile error 6.8 % against 2.5 %; BENCHMARKS.md section 2).
+single-impact window error but is worse than held faces in sequences: on the
+strip REV it makes 9-10 % more plastic strain than the full mesh and closes
+the energy balance only to ~5 % of an impact energy, against 0.4 % with held
+faces (docs/validation.md section 6, "In a sequence").
 An optional absorbing layer along held faces: :func:`sponge`.
 
-Measured window error (BENCHMARKS.md section 2, ``bench_kernel.py window``;
-strip REV, 25 um, 55 m/s, one impact): held faces dent depth +1.7 %,
+Measured window error (docs/validation.md section 6, "Window variants";
+``python benchmarks/window.py error``; strip REV, 25 um, 55 m/s, one
+impact, stiffness hourglass form): held faces dent depth +1.7 %,
 restitution +3 %, averaged sigma_x profile 3.9 % (max abs difference / max
 abs value); viscous-spring faces +1.0 %, -1.9 %, 1.8 %; for ~48x less work
 per impact.
@@ -43,9 +46,9 @@ from peenflow.fe.johnson_cook import Material
 from peenflow.fe.safety import check_status
 from peenflow.fe.shots import Shots, hertz, johnson_plastic
 
-#: The window's measured envelope (BENCHMARKS.md section 2, window error and
+#: The window's measured envelope (docs/validation.md section 6, window error and
 #: window size: strip REV, 25 um, 55 m/s, windows of 3-6 contact radii =
-#: 12-24 elements, 0.07-0.15 c_p t_c; "Window minimum size": 1 and 5 m/s,
+#: 12-24 elements, 0.07-0.15 c_p t_c; "Slow shots": 1 and 5 m/s,
 #: 0.05 c_p t_c, force within 0.4 % of the full mesh): held faces at least
 #: this many elements from the landing point, and at least this fraction of
 #: the dilatational wave travel during the contact (``c_p t_c``) away. A run
@@ -160,8 +163,8 @@ def window_validity(model, material: Material, win: np.ndarray, xc: float, yc: f
     return (f"its nearest held face is {elements:.1f} elements and {wave:.3f} x c_p t_c (the wave travel during "
             f"the {t_est * 1e6:.3g} us contact) from the landing point; the window error was measured only for "
             f">= {WINDOW_VALIDATED['elements']:g} elements and >= {WINDOW_VALIDATED['wave']:g} c_p t_c "
-            "(BENCHMARKS.md section 2). Raise Options.window_min_elements / window_min_wave / window_lateral, "
-            "or run without a window (window=False) to check")
+            "(docs/validation.md section 6). Raise Options.window_min_elements / window_min_wave / "
+            "window_lateral, or run without a window (window=False) to check")
 
 
 @dataclass(frozen=True)
@@ -197,7 +200,7 @@ def viscous_spring_boundary(model, win: np.ndarray, source, *, spring: float = 1
     stiffer than a half-space, and a thin one (a window nearly as large
     as the mesh) should act almost as held faces. The sum reaches both
     limits; it is an interpolation, checked against full-mesh runs
-    (BENCHMARKS.md section 2). The springs let the window rest on
+    (docs/validation.md section 6). The springs let the window rest on
     something while the shot presses slowly (contact time >> wave
     transit) and while it settles. ``spring`` scales the springs,
     ``dashpot`` the dashpots, ``slab`` the slab term (1 = the values
@@ -208,7 +211,7 @@ def viscous_spring_boundary(model, win: np.ndarray, source, *, spring: float = 1
     has already yielded stay held: there the frozen reaction acts as a
     dead load on material at yield, which soft springs cannot stop from
     flowing (a 20-shot sequence on the strip REV drifted such faces by
-    7 um and ran away; BENCHMARKS.md section 2).
+    7 um and ran away; docs/validation.md section 6, "The viscous-spring faces").
 
     Returns None when no face is interior (full mesh).
     """

@@ -21,7 +21,7 @@ levels ran, and added to the fine level's own value:
 
 with the standard error of that mean times k as the correction's sampling error.  The
 order p is not fitted from the two levels (two levels cannot give it): it is measured
-once on converged references (40 / 25 / 16 um strip points, BENCHMARKS.md section 9) and
+once on converged references (40 / 25 / 16 um strip points, docs/validation.md section 9) and
 stated with every result.
 """
 

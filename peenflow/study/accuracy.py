@@ -142,7 +142,8 @@ def target_error(element_size_um: float, dent_um: float | None = None, dent_core
             if _same(hb, dent_core_in_um) and _same(hc, dent):
                 parts.append(f"N_f {nf:+.1f} % (dent from a core of {hc:g} um elements in a {hb:g} um block, "
                              f"against the first-order limit {N_F_LIMIT:g} of the dent levels)")
-    # the profile follows N_c: a core's dent gives the N_c of the dent refined throughout (section 9)
+    # the profile follows N_c: a core's dent gives the N_c of the dent refined throughout
+    # (docs/validation.md section 9)
     for (h, hd), (pk, cd, rms) in TARGET_PROFILE.items():
         if _same(h, element_size_um) and _same(hd, dent):
             parts.append(f"against the converged profile (peak {TARGET_PROFILE_PEAK_MPA:g} MPa) sigma_xx peak "

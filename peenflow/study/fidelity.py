@@ -23,7 +23,7 @@ REMOVED_KEYS = {
     "contact_stiffness_factor": "removed: the kernel's contact is kinematic (nodes are put back on the shot's "
                                 "surface, no penalty slope), so there is no contact stiffness to set; delete the key",
     "precision": "removed: the kernel runs in float64 only (float32 state was measured and not kept, "
-                 "BENCHMARKS.md section 1); delete the key",
+                 "docs/performance.md section 1); delete the key",
 }
 
 DEFAULT_PRESET = "standard"
@@ -131,7 +131,7 @@ class Fidelity(ShotScaled):
         "block", description='where dent_element_size_um applies: "block" (the single impact\'s whole fine zone) '
                              'or "core" (a core under the impact, 1.5 estimated contact radii wide and one deep, '
                              'graded back to element_size_um; the same N_f within 0.1 % at 0.37 x the CPU at 6.25 um, '
-                             'BENCHMARKS.md section 9)')
+                             'docs/validation.md section 9)')
 
     @model_validator(mode="after")
     def _one_depth(self) -> "Fidelity":

@@ -16,6 +16,11 @@ Pipeline (every step collects problems instead of stopping at the first):
 4. validate each section on its own (so one broken section does not hide
    another's problems), then the checks that span sections;
 5. build the frozen :class:`Study`, or raise one :class:`StudyError`.
+
+Length: one pipeline in one class (``_Loader``), whose steps share the problems
+collected so far and the partly read study, so that a study file's problems are
+reported all at once; what its steps apply (the sections' models, bounds,
+errors, variants, items and the measured-data readers) is in its own modules.
 """
 
 from __future__ import annotations

@@ -45,7 +45,7 @@ def surface_spline(xs, us):
     kinks or flat parts; on the 6.25 um surfaces subsampled to 25 um spacing it
     reads the crest within +4 ... +5 um and the dent edge within 2.5 % of the
     full-resolution values (parabola: +6 ... +11 um; straight line: +6 %),
-    :func:`sampling_bias`, BENCHMARKS.md 4c."""
+    :func:`sampling_bias`; docs/validation.md section 4, "The metrics on known data"."""
     from scipy.interpolate import Akima1DInterpolator
 
     return Akima1DInterpolator(xs, us, method="makima")
@@ -239,7 +239,7 @@ def profile_curve(zs_mm, prof_mpa, z_mm) -> np.ndarray:
     curve recovered from the layer means (:meth:`DepthProfile.point_values`). A one-point element's
     stress is its element's mean; straight lines between layer mid-depths read even the converged
     6.25 um profile, averaged to 25 um layers, 7.8 % (RMS of the peak) off under the 25 m/s dent,
-    where its recovered curve is 2.5 % off (BENCHMARKS.md 4c, "The profile reading")."""
+    where its recovered curve is 2.5 % off (docs/validation.md section 4, "The metrics on known data")."""
     return DepthProfile(layer_edges(zs_mm), np.asarray(prof_mpa, dtype=float)).point_values(z_mm)
 
 

@@ -160,7 +160,7 @@ def target_levels(data: dict) -> dict[float, dict]:
 
 
 #: Richardson only from levels down to this size: from 60 / 40 / 25 um alone the strip intensities
-#: extrapolated 1-8 % too high (pre-asymptotic; BENCHMARKS.md §9), so coarser triples give no limit
+#: extrapolated 1-8 % too high (pre-asymptotic; docs/validation.md section 9), so coarser triples give no limit
 RICHARDSON_FINEST_UM = 16.0
 
 
@@ -279,7 +279,7 @@ def two_level(strips: dict, ref_i: dict, ref_v: float, coarse: float = 40.0, fin
 
 
 #: the finest dent levels N_f's limit is fitted to (first order: the pile-up crest that bounds the
-#: dent is found at node resolution, so N_f(h) = N0 + c h; BENCHMARKS.md §9)
+#: dent is found at node resolution, so N_f(h) = N0 + c h; docs/validation.md section 9)
 DENT_FIT_COARSEST_UM = 16.0
 
 
@@ -343,8 +343,9 @@ def n_f_reference(data: dict | None = None) -> dict:
 
 
 #: the target's converged profile: the 0.9 mm periodic REV at a fixed N_c (dent at 12.5 um) refined
-#: 25 / 16 / 12.5 um (first sequence; BENCHMARKS.md §9): the peak by :func:`reference_value` over the three
-#: (Richardson, -548.3 MPa), the compressive depth and the shape (profile RMS) those of the finest
+#: 25 / 16 / 12.5 um (first sequence; docs/validation.md section 9): the peak by
+#: :func:`reference_value` over the three (Richardson, -548.3 MPa), the compressive depth and the shape
+#: (profile RMS) those of the finest
 TARGET_REFERENCE_LEVELS = ("25@0.9d12.5s1", "16@0.9d12.5s1", "12.5@0.9d12.5s1")
 
 
@@ -356,7 +357,7 @@ def target_errors(data: dict | None = None) -> dict[tuple[float, float], dict]:
     headline's rule) and ``profile_rms_pct`` (over 0-0.3 mm, in % of the converged peak) against the
     finest level of :data:`TARGET_REFERENCE_LEVELS`; ``n_c`` and ``cpu_s`` (the level's whole chain,
     one core). The reference REV is 0.9 mm wide, so the profile comparisons also carry the scatter of
-    one sequence against another (about 6 MPa on the peak, §9)."""
+    one sequence against another (about 6 MPa on the peak, docs/validation.md section 9)."""
     data = runs.load("study_level") if data is None else data
     nref = n_f_reference(data)
     if not nref or any(f"{TARGET}/{lvl}" not in data for lvl in TARGET_REFERENCE_LEVELS):

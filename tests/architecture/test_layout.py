@@ -1,8 +1,9 @@
-"""The layout of the code: no import circles, and the layers import downwards only."""
+"""The layout of the code: no import circles, the layers import downwards only, and a long file says why."""
 
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -116,3 +117,56 @@ def test_layers_import_downwards():
                 bad += [f"{name} -> {d}" for d in deps
                         if not any(d == a or (a != "peenflow" and d.startswith(a + ".")) for a in allowed)]
     assert bad == []
+
+
+#: a Python file of more lines than this says why in its module docstring, on a line that starts "Length:"
+MAX_LINES = 600
+#: where the rule holds: the package, the stages and the benchmarks (tests are not held to it)
+LENGTH_ROOTS = ("peenflow", "tasks", "benchmarks")
+#: a reason is a sentence, not a word
+MIN_REASON_WORDS = 8
+
+
+def _length_reason(source: str) -> str | None:
+    """The 'Length:' paragraph of a module's docstring (up to the next blank line), or None."""
+    doc = ast.get_docstring(ast.parse(source)) or ""
+    m = re.search(r"^Length:(.*?)(?:\n\s*\n|\Z)", doc, re.M | re.S)
+    return " ".join(m.group(1).split()) if m else None
+
+
+def _length_problems(files) -> list[str]:
+    out = []
+    for f in files:
+        source = f.read_text(encoding="utf-8")
+        lines = len(source.splitlines())
+        reason = _length_reason(source)
+        name = f.relative_to(ROOT).as_posix() if f.is_relative_to(ROOT) else f.name
+        if lines > MAX_LINES and (reason is None or len(reason.split()) < MIN_REASON_WORDS):
+            out.append(f"{name}: {lines} lines and no 'Length:' reason in its docstring")
+        elif lines <= MAX_LINES and reason is not None:
+            out.append(f"{name}: {lines} lines, yet its docstring says why it is long")
+    return out
+
+
+def test_a_python_file_over_600_lines_says_why():
+    """Small modules with one job each: a file over MAX_LINES either is one cohesive thing and says so in its
+    module docstring ('Length: ...'), or is split; a reason left in a file that has shrunk is stale."""
+    files = [f for root in LENGTH_ROOTS for f in sorted((ROOT / root).rglob("*.py")) if "__pycache__" not in f.parts]
+    assert len(files) > 100
+    assert _length_problems(files) == []
+
+
+def test_the_length_rule_finds_a_long_file_without_a_reason(tmp_path):
+    body = "x = 1\n" * MAX_LINES
+    cases = {"bare.py": '"""A module."""\n' + body,
+             "terse.py": '"""A module.\n\nLength: because.\n"""\n' + body,
+             "stated.py": '"""A module.\n\nLength: one pipeline in one class whose steps share the\nproblems collected so far.\n\nMore.\n"""\n' + body,
+             "stale.py": '"""A module.\n\nLength: one pipeline in one class whose steps share the problems collected.\n"""\nx = 1\n'}
+    for name, text in cases.items():
+        (tmp_path / name).write_text(text)
+    assert _length_reason(cases["stated.py"]) == "one pipeline in one class whose steps share the problems collected so far."
+    n = {name: len(text.splitlines()) for name, text in cases.items()}
+    assert _length_problems(sorted(tmp_path.glob("*.py"))) == [
+        f"bare.py: {n['bare.py']} lines and no 'Length:' reason in its docstring",
+        f"stale.py: {n['stale.py']} lines, yet its docstring says why it is long",
+        f"terse.py: {n['terse.py']} lines and no 'Length:' reason in its docstring"]

@@ -119,7 +119,7 @@ def test_light_target_force_error_is_discretisation():
 
 @pytest.mark.slow
 def test_hertz_converged_with_refinement():
-    """a/h = 4 -> 8 moves every quantity by < 1.5 % (measured < 1 %, docs/validation.md 2),
+    """a/h = 4 -> 8 moves every quantity by < 1.5 % (measured < 1 %, docs/validation.md section 2),
     and the refined values keep the tolerances of test_hertz_55."""
     coarse, ref, _ = hertz_run(55.0, 4)
     fine, ref, res = hertz_run(55.0, 8)

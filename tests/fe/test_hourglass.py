@@ -14,7 +14,7 @@ from peenflow.fe.element import element_rows
 from peenflow.fe.element_reference import element_pass
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import BoxMesh, graded_axis
-from peenflow.fe.multigrid import _LOCAL, element_matrix
+from peenflow.fe.box_stiffness import _LOCAL, element_matrix
 
 STEEL = Material(E=200e9, nu=0.3, density=7800.0, A=1e13)  # elastic
 

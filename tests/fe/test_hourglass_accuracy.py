@@ -185,8 +185,8 @@ def test_profile_reading_on_coarser_layers_of_the_same_profile():
 
 
 def test_goals_below_the_resolution_of_the_mesh():
-    """Which of issue 13 §1's goals no element can show at 25 / 50 um (docs/validation.md section 4, "Issue 13 §1
-    goal by goal"): the converged 6.25 um fields read at that spacing (surface line at every 4th / 8th
+    """Which of issue 13 §1's goals no element can show at 25 / 50 um (docs/validation.md section 4, "Goal
+    by goal"): the converged 6.25 um fields read at that spacing (surface line at every 4th / 8th
     node from each offset; sigma_xx averaged over 25 / 50 um layers) against themselves in full.
     At 50 um the dent radius reads >= 8 % off on average over where the shot lands on the three SAE
     dents and the crest radius and height on all four cases (measured 9.5-20 %, 15-23 %, 13-29 %);

@@ -252,7 +252,8 @@ def test_periodic_multigrid_is_the_tied_tangent_and_spd():
     """Level 0 applies T^T K T (the folded element forces of an unfolded
     displacement); the V-cycle is symmetric positive definite on the tied space."""
     from peenflow.fe.element import element_rows
-    from peenflow.fe.multigrid import Multigrid, dot, mask_fixed
+    from peenflow.fe.boundary import mask_fixed
+    from peenflow.fe.multigrid import Multigrid, dot
 
     m = Model(block(16), MAT)
     mg = Multigrid(m.mesh, m.bc, m.mat_static, periodic=True)

@@ -9,8 +9,10 @@ from peenflow.fe.impact import Options, run_impacts
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import graded_box
 from peenflow.fe.model import Model, Target
-from peenflow.fe.multigrid import (BOX_PATTERN, ElementMatrices, Multigrid, apply_k, apply_k_modal, dot, element_bound,
-                                   element_matrix, mask_fixed, modal_blocks)
+from peenflow.fe.boundary import mask_fixed
+from peenflow.fe.box_stiffness import (BOX_PATTERN, ElementMatrices, apply_k, apply_k_modal, element_bound, element_matrix,
+                                       modal_blocks)
+from peenflow.fe.multigrid import Multigrid, dot
 from peenflow.fe.relaxation import relax
 from peenflow.fe.shots import Shots
 from peenflow.testing import SAE1070
@@ -180,12 +182,12 @@ def test_element_matrices_span_every_box_size():
         k = element_matrix(*h, mat)
         assert np.abs(em(*h) - k).max() < 1e-9 * np.abs(k).max()
     # the span check is a real one: a tolerance below the probe's accuracy fails it
-    import peenflow.fe.multigrid as MG
-    saved, MG.SPAN_TOLERANCE = MG.SPAN_TOLERANCE, 1e-16
+    import peenflow.fe.box_stiffness as BS
+    saved, BS.SPAN_TOLERANCE = BS.SPAN_TOLERANCE, 1e-16
     try:
         em2 = ElementMatrices(mat, 25e-6)
     finally:
-        MG.SPAN_TOLERANCE = saved
+        BS.SPAN_TOLERANCE = saved
     assert not em2.spanned
     h = (25e-6, 40e-6, 170e-6)
     assert np.array_equal(em2(*h), 0.5 * (element_matrix(*h, mat) + element_matrix(*h, mat).T))
