@@ -95,6 +95,16 @@ def test_rerun_after_finishing_computes_nothing(micro):
     assert "+ computed" not in out and out.count("= reused") >= 10
 
 
+def test_status_why_names_a_changed_material_constant_with_old_and_new_values(micro, tmp_path):
+    """A material edit reads as the field that changed (SI, dotted path), not two JSON dicts."""
+    edited = tmp_path / "micro.toml"
+    edited.write_text(micro.read_text() + '\n[materials."Al7075-T73".johnson_cook]\nA_MPa = 500.0\n')
+    out = peenflow_cli("status", edited, "--store", micro.parent / ".peenflow", "--why").stdout
+    impact = next(line for line in out.splitlines() if line.strip().startswith("pending") and "target_impact" in line)
+    assert impact.endswith("target_impact  (parameters changed: material.A_Pa: 4.34e8 -> 5e8)"), out
+    assert "strip_runs[angle_deg=90,velocity_m_s=30,sequence=0]  (up to date)" in out  # the strip's material is not it
+
+
 def test_bad_study_gives_messages_and_computes_nothing(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text((HERE / "micro.toml").read_text()
