@@ -159,6 +159,15 @@ def test_killed_study_resumes_mid_stage_to_the_identical_result(micro, tmp_path)
     else:
         raise AssertionError("no kill landed mid-point in 5 attempts")
     done_before = {p.name: p.read_bytes() for p in store.glob("results/*/*.nc")}
+    # status names the shot the next run resumes from: the shots in the checkpoint's kernel state
+    import xarray as xr
+
+    ck = unfinished_checkpoints()[0]
+    with xr.open_dataset(ck) as state:
+        shots = state.sizes["kernel__shot_records__0"]
+    status = peenflow_cli("status", study, "--why").stdout
+    line = next(ln for ln in status.splitlines() if ck.parent.name[:12] in ln)
+    assert f"(incomplete: the next run resumes from its checkpoint after {shots}/" in line, status
     out = subprocess.run([sys.executable, "-m", "peenflow.cli", "run", str(study), "--threads", "1"], capture_output=True,
                          text=True, env=env, timeout=600, check=True).stdout
     assert "resuming from checkpoint" in out
