@@ -156,3 +156,20 @@ def test_the_readme_is_a_short_guide_with_its_two_commands():
     assert ("python3.11 -m venv .venv && .venv/bin/pip install -e . && .venv/bin/peenflow run studies/quickstart.toml"
             in text)
     assert 'python3.11 -m venv .venv && .venv/bin/pip install -e ".[test]" && .venv/bin/pytest' in text
+
+
+def test_every_environment_setting_is_documented_with_its_default():
+    """Each ``PEENFLOW_*`` variable the code reads has a row in docs/architecture.md's settings table, and a
+    default the code states as text (``os.environ.get(NAME, "30")``) is the documented one."""
+    rows = {}
+    for line in (REPO / "docs" / "architecture.md").read_text(encoding="utf-8").splitlines():
+        m = re.match(r"\| `(PEENFLOW_[A-Z_]+)` \| ([^|]+) \|", line)
+        if m:
+            rows[m.group(1)] = m.group(2).strip()
+    sources = "\n".join(p.read_text(encoding="utf-8") for d in ("peenflow", "tasks")
+                        for p in sorted((REPO / d).rglob("*.py")))
+    names = set(re.findall(r"[\"'](PEENFLOW_[A-Z_]+)[\"']", sources))
+    assert "PEENFLOW_CHECKPOINT_EVERY_S" in names
+    assert names <= set(rows), f"undocumented settings: {sorted(names - set(rows))}"
+    for name, default in re.findall(r"environ\.get\(\"(PEENFLOW_[A-Z_]+)\", \"([^\"]*)\"\)", sources):
+        assert rows[name].split()[0] == default, (name, rows[name], default)

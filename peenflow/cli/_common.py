@@ -6,6 +6,7 @@ from pathlib import Path
 
 from ..api import default_store_path, load_study_graph
 from ..engine import DirectoryStore, Graph
+from ..units import reading_unit
 
 
 class UserError(Exception):
@@ -39,8 +40,8 @@ def stage_nodes(graph: Graph, stage: str):
 
 
 def _scale(graph, dim: str) -> tuple[float, str]:
-    units = graph.coord_attrs.get(dim, {}).get("units", "1")
-    return {"m": (1e3, " mm"), "Pa": (1e-6, " MPa"), "1": (1.0, "")}.get(units, (1.0, f" {units}"))
+    factor, unit = reading_unit(graph.coord_attrs.get(dim, {}).get("units", "1"))
+    return factor, f" {unit}" if unit else ""
 
 
 def _values(graph, dim: str) -> list:

@@ -12,7 +12,7 @@ import time
 
 import xarray as xr
 
-from .checkpoint import Checkpoints
+from .checkpoint import Checkpoints, position_of
 from .interrupt import Interrupted, stop_requested
 
 
@@ -24,7 +24,11 @@ class TaskContext:
     machine; the first read draws them from the run's core budget, see
     cores.py), ``resumed`` (True when a checkpoint was found at start),
     ``notes`` (what the task wants the run's report to say, e.g. that it
-    ignored an unusable checkpoint).
+    ignored an unusable checkpoint), ``resumed_from`` (the loaded
+    checkpoint's position, ``{"done", "total", "unit"}``, or None).
+
+    A checkpoint records the task's last progress report as its position, so
+    a task reports its progress up to the state it saves before saving it.
     """
 
     PROGRESS_INTERVAL_S = 1.0
@@ -42,6 +46,8 @@ class TaskContext:
         self._started = time.time()
         self._progress_base: tuple[float, float] | None = None
         self.resumed = self._checkpoints.exists()
+        self.resumed_from: dict | None = None
+        self._position: dict | None = None  # the last progress reported (the next checkpoint's position)
         self.notes: list[str] = []
 
     @property
@@ -59,6 +65,7 @@ class TaskContext:
     def progress(self, done: float, total: float | None = None, unit: str = "", note: str = "") -> None:
         """Report progress (throttled to about once a second; the last call always lands)."""
         now = time.time()
+        self._position = {"done": done, "total": total, "unit": unit}
         final = total is not None and done >= total
         if not final and now - self._last_progress < self.PROGRESS_INTERVAL_S:
             return
@@ -84,11 +91,13 @@ class TaskContext:
             self._checkpoints.clear()
             self.resumed = False
             self.notes.append("checkpoint unreadable, starting over")
+        if state is not None:
+            self.resumed_from = self._position = position_of(state.attrs)
         return state
 
     def save_checkpoint(self, state: xr.Dataset) -> None:
         """Save intermediate state atomically; a later run with the same key resumes from it."""
-        self._checkpoints.save(state)
+        self._checkpoints.save(state, self._position)
 
     def clear_checkpoint(self) -> None:
         self._checkpoints.clear()
@@ -97,6 +106,7 @@ class TaskContext:
         """Drop a checkpoint the task cannot use (another task's, or damaged) and say so; start afresh."""
         self._checkpoints.clear()
         self.resumed = False
+        self.resumed_from = self._position = None
         self.notes.append(f"ignored an unusable checkpoint ({why}); started from the beginning")
 
     @property

@@ -12,7 +12,8 @@
   Workers import the task modules by name, so the project must be installed
   on them.  A stop request of this process (Ctrl-C, SIGTERM, SIGHUP) reaches
   the points on the workers through a dask Variable (cluster_stop.py): they
-  stop at their next checkpoint as local ones do.
+  stop at their next checkpoint as local ones do.  When every point is
+  stored already, the scheduler is not contacted: the points are reused here.
 
 Points are submitted as one dask graph; each runs :func:`runner.run_node`,
 which records its own failures, so a failed point never stops the others.
@@ -31,7 +32,9 @@ from .cluster_stop import StopRelay, variable_name
 from .cores import CoreBudget, set_active_budget, wanted_threads
 from .graph import Graph, Group, Node
 from .lease import STALE_AFTER_S
+from .point_states import plan_items
 from .progress import Reporter
+from .reasons import State
 from .runner import Outcome, PointSpec, UpstreamRef, run_node, set_notice
 from .store import DirectoryStore
 
@@ -184,7 +187,18 @@ def register_run(store: DirectoryStore, study: str):
         time.sleep(CLEAN_WAIT_S)
 
 
+def _all_stored(graph, store, nodes, forced) -> bool:
+    """True when the runner would reuse every one of ``nodes`` (stored, stale ones kept, none forced)."""
+    wanted = {id(n) for n in nodes}
+    items = plan_items(graph, store, graph.ancestors(nodes), set(forced))
+    return all(i.state in (State.DONE, State.STALE) for i in items if id(i.node) in wanted)
+
+
 def _execute(graph, store, nodes, forced, scheduler, workers, threads, reporter, progress_every_s, previous=None):
+    if scheduler is not None and _all_stored(graph, store, nodes, forced):
+        # nothing to compute: reuse here, without a cluster that may be down or busy
+        reporter.line(f"every point is stored: reused here, the scheduler at {scheduler} is not contacted")
+        scheduler = None
     cores = available_cores()
     budget = None
     if scheduler is None:

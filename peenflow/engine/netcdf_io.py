@@ -28,6 +28,13 @@ def read_dataset(path: Path) -> xr.Dataset:
             return ds.load()
 
 
+def read_attrs(path: Path) -> dict:
+    """The file's global attributes alone (no variable is read)."""
+    with NETCDF_LOCK:
+        with xr.open_dataset(path, engine=ENGINE, cache=False) as ds:
+            return dict(ds.attrs)
+
+
 def open_lazy(path: Path) -> xr.Dataset:
     """The Dataset backed by dask arrays: values are read when computed (the file stays open).
 

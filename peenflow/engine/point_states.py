@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .checkpoint import Checkpoints, describe_position
 from .graph import Graph, Group, Node
 from .keys import KeyParts, reason_against_slot
 from .lease import STALE_AFTER_S
@@ -90,15 +91,21 @@ def plan_items(graph: Graph, store: DirectoryStore, nodes: list[Node] | None = N
             reason, detail = reason_against_slot(slot, task.name, code, node.params, ups)
             if reason is Reason.INCOMPLETE and problem != "missing":
                 detail = problem
-        if store.checkpoint_dir(key).exists() and not is_forced:
-            reason, detail = Reason.INCOMPLETE, "checkpoint present; will resume from it"
+        checkpoint = Checkpoints(store.checkpoint_dir(key))
+        if checkpoint.exists() and not is_forced:
+            # where the next run resumes: the checkpoint's position, not a killed run's own count
+            where = describe_position(checkpoint.position())
+            reason, detail = Reason.INCOMPLETE, (f"the next run resumes from its checkpoint {where}" if where
+                                                 else "checkpoint present; will resume from it")
         state = State.PENDING
+        progress = None  # a live run's own count (a dead run's is not where anything resumes)
         # The runner's rule (lease.verdict): running while the holder lives; another host's lease
         # without a recent heartbeat blocks; a dead one is broken by the next run.
         lease, alive, why = store.leases.verdict(key)
         if lease is not None and (alive or (alive is None and lease.heartbeat_age_s <= STALE_AFTER_S)):
             state = State.RUNNING
             detail = lease.describe()
+            progress = store.progress(key)
         elif lease is not None and alive is None:
             state = State.BLOCKED
             detail = f"{lease.describe()}; if that run is dead, run `peenflow unlock`"
@@ -109,5 +116,5 @@ def plan_items(graph: Graph, store: DirectoryStore, nodes: list[Node] | None = N
             if failure is not None:
                 state = State.FAILED
                 detail = f"last attempt failed: {failure.get('error', '?')}"
-        items[id(node)] = PlanItem(node, key, state, reason, detail, None, store.progress(key))
+        items[id(node)] = PlanItem(node, key, state, reason, detail, None, progress)
     return [items[id(n)] for n in nodes]

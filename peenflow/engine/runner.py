@@ -25,6 +25,7 @@ import xarray as xr
 from .. import __version__
 from .blas import pin_blas_threads
 from .canonical import canonical_json
+from .checkpoint import describe_position
 from .cluster_stop import worker_check
 from .combine import combine_points
 from .context import TaskContext
@@ -331,7 +332,8 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
             return planned
         if planned[0] is Reason.FORCED:  # a killed rerun of the same inputs: on from where it stopped
             return Reason.FORCED, f"{planned[1]}; resuming its own checkpoint"
-        return Reason.INCOMPLETE, "resuming from checkpoint"
+        where = describe_position(ctx.resumed_from)
+        return Reason.INCOMPLETE, "resuming from checkpoint" + (f" {where}" if where else "")
 
     started = time.time()
     try:

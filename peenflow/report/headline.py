@@ -17,7 +17,7 @@ import itertools
 import numpy as np
 
 from peenflow.methods.profile_features import compressive_depth
-from peenflow.units import MM, MPA, UM
+from peenflow.units import MM, MPA, UM, reading_unit
 
 from .reading import stage_or_none as _result
 
@@ -155,8 +155,8 @@ def point_name(pmap, sel: dict) -> str:
             parts.append(f"{float(v):g} %")
         else:
             units = c.attrs.get("units", "")
-            scale, shown = {"m": (1e3, "mm"), "Pa": (1e-6, "MPa")}.get(units, (1.0, units))
-            parts.append(f"{d} {float(v) * scale:.4g}{' ' + shown if shown not in ('', '1') else ''}")
+            scale, shown = reading_unit(units)
+            parts.append(f"{d} {float(v) * scale:.4g}{' ' + shown if shown else ''}")
     return ", ".join(parts)
 
 

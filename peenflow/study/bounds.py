@@ -20,7 +20,8 @@ from typing import Iterator
 
 from peenflow.units import MM, UM
 
-__all__ = ["Bound", "BOUNDS", "RELATIVE_BOUNDS", "ELEMENTS_PER_CONTACT_RADIUS_MAX", "bound_keys", "check_bounds"]
+__all__ = ["Bound", "BOUNDS", "RELATIVE_BOUNDS", "ELEMENTS_PER_CONTACT_RADIUS_MAX", "bound_keys", "check_bounds",
+           "check_table_bounds"]
 
 
 @dataclass(frozen=True)
@@ -125,16 +126,17 @@ Problem = tuple[str, object, str]  # (key, value, message)
 
 
 def _values(study_sections: dict, key: str) -> Iterator[tuple[str, object]]:
-    """(shown key, value) pairs at ``key`` in the validated sections (list items one by one)."""
+    """(shown key, value) pairs at ``key`` in the sections (validated models or the file's tables; list
+    items one by one)."""
     section, _, rest = key.partition(".")
     obj = study_sections.get(section)
     for part in rest.split("."):
         if obj is None:
             return
-        obj = getattr(obj, part, None)
+        obj = obj.get(part) if isinstance(obj, dict) else getattr(obj, part, None)
     if obj is None:
         return
-    if isinstance(obj, tuple):
+    if isinstance(obj, (tuple, list)):
         for i, v in enumerate(obj):
             yield f"{key}[{i}]", v
     else:
@@ -150,16 +152,34 @@ def _materials(s: dict) -> Iterator[tuple[str, object]]:
         yield f"materials.{almen.strip.material.name}", almen.strip.material
 
 
+def _outside(bound: Bound, shown: str, value, allowed: set[str]) -> list[Problem]:
+    """[the problem] when the number ``value`` breaks ``bound`` and the study does not allow it, else []."""
+    if bound.key in allowed or not isinstance(value, (int, float)) or isinstance(value, bool):
+        return []
+    if (bound.low is not None and value < bound.low) or (bound.high is not None and value > bound.high):
+        return [(shown, value, f"outside the validated range {bound.describe()} ({bound.basis}); "
+                 f'to go beyond it on purpose, add "{bound.key}" to [study] allow_outside_bounds')]
+    return []
+
+
+def check_table_bounds(section: str, table: dict, allowed: set[str]) -> list[Problem]:
+    """The bounds on the keys of ``section`` that the file's table ``table`` breaks, for a section whose
+    model refused some other key: its values that are numbers are still checked, so one ``check`` lists
+    both kinds of problem (a value that is not a number has its own problem already)."""
+    out: list[Problem] = []
+    for bound in BOUNDS:
+        if bound.key.startswith(section + "."):
+            for shown, value in _values({section: table}, bound.key):
+                out += _outside(bound, shown, value, allowed)
+    return out
+
+
 def check_bounds(s: dict, allowed: set[str]) -> list[Problem]:
     """Every bound the validated sections ``s`` break, except those named in ``allowed``."""
     out: list[Problem] = []
 
     def test(bound: Bound, shown: str, value) -> None:
-        if bound.key in allowed or not isinstance(value, (int, float)) or isinstance(value, bool):
-            return
-        if (bound.low is not None and value < bound.low) or (bound.high is not None and value > bound.high):
-            out.append((shown, value, f"outside the validated range {bound.describe()} ({bound.basis}); "
-                        f'to go beyond it on purpose, add "{bound.key}" to [study] allow_outside_bounds'))
+        out.extend(_outside(bound, shown, value, allowed))
 
     shot = s.get("shot")
     for bound in BOUNDS:

@@ -37,7 +37,7 @@ from pydantic import BaseModel, ValidationError
 
 from .._toml import describe_toml_error
 from ..units import MM, UM
-from .bounds import bound_keys, check_bounds
+from .bounds import bound_keys, check_bounds, check_table_bounds
 from .errors import Problem, StudyError, format_value, suggest, translate
 from .fidelity import REMOVED_KEYS, Fidelity, expand_preset
 from .items import Material, Shot, Strip
@@ -157,11 +157,18 @@ class _Loader:
         self.path = Path(path).absolute()
         self.problems: list[Problem] = []
         self.suppressed: set[str] = set()
+        self.unknown_names: list[Problem] = []  # unknown [study] keys and sections: the tables still build
 
     # --- problems ---------------------------------------------------------
     def add(self, key: str, message: str, file: Path | None = None, value: Any = _NO_VALUE) -> None:
         shown = None if value is _NO_VALUE else format_value(value)
         self.problems.append(Problem(key, message, None if file == self.path else file, shown))
+
+    def add_unknown_name(self, key: str, message: str, file: Path | None = None) -> None:
+        """A key of [study] or a section that does not exist: a problem that changes no table, so the
+        sections are still built and checked (one ``check`` lists every problem)."""
+        self.add(key, message, file)
+        self.unknown_names.append(self.problems[-1])
 
     def is_suppressed(self, key: str) -> bool:
         """Under a reference already reported as unknown or broken."""
@@ -236,7 +243,7 @@ class _Loader:
             table = {}
         for key in table:
             if key not in STUDY_KEYS:
-                self.add(f"study.{key}", f"unknown key{suggest(key, STUDY_KEYS)} (valid keys here: "
+                self.add_unknown_name(f"study.{key}", f"unknown key{suggest(key, STUDY_KEYS)} (valid keys here: "
                          f"{', '.join(STUDY_KEYS)})", file)
 
         includes: list[tuple[str, list[Path]]] = []
@@ -378,7 +385,7 @@ class _Loader:
             return None
         for key in raw.data:
             if key not in TOP_KEYS:
-                self.add(key, f"unknown section{suggest(key, TOP_KEYS)} (valid sections: {', '.join(TOP_KEYS)})")
+                self.add_unknown_name(key, f"unknown section{suggest(key, TOP_KEYS)} (valid sections: {', '.join(TOP_KEYS)})")
         try:
             dims, variants = expand(raw.data)
         except ListProblem as exc:
@@ -393,7 +400,7 @@ class _Loader:
         for table in ("sweep", "sensitivity"):
             if isinstance(raw.data.get(table), dict):
                 self.check_sweep_keys(raw.data[table], raw, table)
-        if self.problems:
+        if any(p not in self.unknown_names for p in self.problems):
             return None
         studies = []
         for v in variants:
@@ -495,6 +502,7 @@ class _Loader:
         info = self.validate(StudyInfo, {**raw.info, "include": tuple(s for s, _ in raw.includes)}, "study")
         sections: dict[str, Any] = {}
         failed: set[str] = set()
+        refused: dict[str, dict] = {}  # the tables of sections their model refused
         for name, model in SECTIONS.items():
             value = data.get(name)
             if value is None:
@@ -515,13 +523,14 @@ class _Loader:
             validated = self.validate(model, value, name)
             if validated is None:
                 failed.add(name)
+                refused[name] = value
             else:
                 sections[name] = validated
 
         self.cross_checks(sections, failed)
-        # the sections that validated are checked against their bounds even when others failed, so
-        # one `check` lists every problem (a failed section has no values to check)
-        outside = self.bounds(sections, info) if info is not None else []
+        # the sections that validated are checked against their bounds even when others failed, and a
+        # refused section's values that are numbers too, so one `check` lists every problem
+        outside = self.bounds(sections, info, refused) if info is not None else []
         if self.problems or info is None or failed:
             self.problems += outside
             return None
@@ -538,15 +547,22 @@ class _Loader:
         self.problems += outside
         return None if outside else study
 
-    def bounds(self, sections: dict, info: StudyInfo) -> list[Problem]:
-        """Values outside their validated range (bounds.py), except the keys the study allows."""
+    def bounds(self, sections: dict, info: StudyInfo, refused: dict[str, dict]) -> list[Problem]:
+        """Values outside their validated range (bounds.py), except the keys the study allows; in the
+        ``refused`` sections' tables, those of keys without a problem of their own."""
         out = []
+        allowed = set(info.allow_outside_bounds)
+        reported = {p.key for p in self.problems}
+        for name, table in refused.items():
+            for key, value, message in check_table_bounds(name, table, allowed):
+                if key not in reported and key.split("[")[0] not in reported:
+                    out.append(Problem(key, message, None, format_value(value)))
         known = bound_keys()
         for i, k in enumerate(info.allow_outside_bounds):
             if k not in known:
                 out.append(Problem(f"study.allow_outside_bounds[{i}]", f"no bound on this key{suggest(k, known)} "
                                    f"(keys with bounds: {', '.join(known)})", None, format_value(k)))
-        for key, value, message in check_bounds(sections, set(info.allow_outside_bounds)):
+        for key, value, message in check_bounds(sections, allowed):
             out.append(Problem(key, message, None, format_value(value)))
         return out
 

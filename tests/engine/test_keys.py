@@ -62,3 +62,36 @@ def test_identical_upstream_content_does_not_invalidate_downstream(tmp_path):
                for l in lines)
     for f in (1, 2, 3):
         assert any(l.startswith("= reused") and f"scale[factor={f}]" in l for l in lines)
+
+
+def test_a_parameters_changed_reason_names_each_changed_field_with_old_and_new_values():
+    """Nested tables as dotted paths, numbers with the digits that tell them apart, a list whose items
+    mostly changed shown whole but abbreviated; one line, at most four changes named."""
+    from peenflow.engine.keys import reason_against_slot
+    from peenflow.engine.reasons import Reason
+
+    old = {"intensity_m": 0.0003, "material": {"A_Pa": 434e6, "n": 0.3}, "angle_deg": 90.0,
+           "velocities_m_s": [30.0, 45.0, 55.0], "seeds": list(range(64)), "note": "a"}
+    new = {"intensity_m": 0.00035, "material": {"A_Pa": 500e6, "n": 0.3}, "angle_deg": 90.0,
+           "velocities_m_s": [30.0, 47.5, 55.0], "seeds": list(range(1, 65)), "note": "a"}
+    slot = {"parts": KeyParts("rev", "version:1", old, {}).to_dict()}
+    reason, detail = reason_against_slot(slot, "rev", "version:1", new, {})
+    assert reason is Reason.PARAMS_CHANGED
+    assert detail == ("intensity_m: 0.0003 -> 0.00035, material.A_Pa: 4.34e8 -> 5e8, "
+                      "seeds: [0, 1, 2, ... (64 items)] -> [1, 2, 3, ... (64 items)], velocities_m_s[1]: 45 -> 47.5")
+    # a fifth change is counted, not shown; a change in the 9th digit is shown with 9 digits
+    new = {**new, "note": "b\nc", "angle_deg": 89.9999999}
+    reason, detail = reason_against_slot(slot, "rev", "version:1", new, {})
+    assert detail.startswith("angle_deg: 90 -> 89.9999999, intensity_m: ") and detail.endswith(" (+2 more)")
+    assert "\n" not in detail
+    # a field added or removed reads as none
+    _, detail = reason_against_slot(slot, "rev", "version:1", {**old, "extra": 1}, {})
+    assert detail == "extra: none -> 1"
+
+
+def test_status_why_names_the_changed_field(tmp_path):
+    study = write_toy(tmp_path / "s")
+    peenflow("run", study)
+    write_toy(tmp_path / "s", n=6)
+    lines = peenflow("status", study, "--why").stdout.splitlines()
+    assert any("source  (parameters changed: n: 5 -> 6)" in line for line in lines), lines

@@ -40,7 +40,20 @@ def test_killed_run_resumes_without_recomputing_finished_work(tmp_path):
     stamps = {p.name: p.stat().st_mtime_ns for p in store.glob("results/*/*.nc")}
     assert 2 <= len(before) < 7, "the kill should land mid-run"
 
+    # status says where the next run resumes: the checkpoint's step, not the dead run's own count (a run
+    # that checkpoints every PEENFLOW_CHECKPOINT_EVERY_S gets past its last checkpoint before a kill)
+    with xr.open_dataset(ckpt()[0]) as ck:
+        saved = int(ck.step)
+    key = ckpt()[0].parent.name
+    DirectoryStore(store).write_progress(key, {"study": "toy", "point": "counter", "done": saved + 3, "total": 10,
+                                               "unit": "steps"})
+    line = next(ln for ln in peenflow("status", study, "--why").stdout.splitlines() if " counter  (" in ln)
+    assert line.split()[:2] == ["pending", key[:12]], line
+    assert f"counter  (incomplete: the next run resumes from its checkpoint after {saved}/10 steps; dead lease" in line
+    assert f"{saved + 3}/10" not in line, line
+
     out = peenflow("run", study, "--workers", "2").stdout
+    assert f"counter  (incomplete: resuming from checkpoint after {saved}/10 steps)" in out, out
     computed = [l for l in out.splitlines() if l.startswith("+ computed")]
     reused = [l for l in out.splitlines() if l.startswith("= reused")]
     assert len(computed) + len(reused) == 7

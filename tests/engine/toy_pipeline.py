@@ -59,9 +59,9 @@ def _count(ctx, steps: int, delay_s: float, lane: int = 0) -> tuple[float, int]:
     for k in range(start, steps):
         time.sleep(delay_s)
         acc += k
+        ctx.progress(k + 1, steps, "steps")  # before the checkpoint: its position is the last progress
         ctx.save_checkpoint(xr.Dataset({"step": ((), k + 1), "acc": ((), acc)}))
         _log("step", f"{lane}/{k}")
-        ctx.progress(k + 1, steps, "steps")
         if ctx.stop_requested:  # a checkpoint is saved: stop here (Ctrl-C, SIGTERM, SIGHUP)
             ctx.stop(f"after step {k + 1} of {steps}")
     return acc, start

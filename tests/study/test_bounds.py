@@ -204,3 +204,34 @@ def test_the_periodic_contact_zone_is_the_kernel_s(speed, angle_deg, h):
     with pytest.raises(ValueError, match="too short for the shot's contact"):
         seam_shift(model(2.0 * half * (1.0 - 1e-9)), shot, vel, shots, mat, Options(window=False))
     seam_shift(model(2.0 * half * (1.0 + 1e-9)), shot, vel, shots, mat, Options(window=False))
+
+
+_ANGLE = "target.angle_deg = 20.0: outside the validated range [45, 90] deg"
+
+
+@pytest.mark.parametrize("unknown, shown", [
+    ({"target.angel": 3.0}, "target.angel = 3.0: unknown key"),  # in the same section as the bad value
+    ({"seeds.bogus": 1}, "seeds.bogus = 1: unknown key"),  # in another section
+    ({"dmn": {"x": 1}}, 'dmn: unknown section; did you mean "dmin"?'),
+    ({"study.nme": "x"}, 'study.nme: unknown key; did you mean "name"?'),
+])
+def test_check_lists_an_unknown_key_and_an_out_of_range_value_at_once(write_study, unknown, shown):
+    """One `peenflow check` lists both kinds of problem: the bound is checked on the value the file gives
+    even when the section's model refused a key beside it."""
+    import subprocess
+    import sys
+
+    study = write_study({"target.angle_deg": 20.0, **unknown})
+    proc = subprocess.run([sys.executable, "-m", "peenflow.cli", "check", str(study)], capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    lines = [ln.strip() for ln in proc.stderr.splitlines()]
+    assert "2 problems in study file" in lines[0], proc.stderr
+    assert any(ln.startswith(f"- {shown}") for ln in lines), proc.stderr
+    assert any(ln.startswith(f"- {_ANGLE}") for ln in lines), proc.stderr
+
+
+def test_a_value_the_model_refuses_is_not_reported_twice(write_study):
+    # 100 deg is impossible (the model's (0, 90]); the bound [45, 90] would say it again
+    problems = validate_study(write_study({"target.angle_deg": 100.0, "target.angel": 3.0}))
+    assert [p.split(":")[0] for p in problems] == ["target.angle_deg = 100.0", "target.angel = 3.0"], problems

@@ -51,9 +51,9 @@ def test_show_prints_full_values_and_takes_every_stage_and_task_name(micro, caps
         assert proc.returncode == 0, (stage, proc.stderr)
         assert proc.stdout.startswith(f"stage {stage}\n") and "files:" in proc.stdout
     ctrl = peenflow.open_result(micro, "control_curve")
-    out = cli("show", micro, "control_curve", capsys=capsys).stdout
+    out = cli("show", micro, "control_curve", "--exact", capsys=capsys).stdout
     for v in ctrl.intensity_m.values.ravel():
-        assert repr(float(v)) in out  # every digit, not "0.3601 ..."
+        assert repr(float(v)) in out  # --exact: every digit of the stored SI value, not "0.3601 ..."
     assert "[m]  Almen intensity" in out  # the store holds SI
     # a task name a single stage runs stands for that stage; an ambiguous one is refused by name
     assert cli("show", micro, "single_impact", capsys=capsys).stdout.startswith("stage target_impact\n")
@@ -61,6 +61,26 @@ def test_show_prints_full_values_and_takes_every_stage_and_task_name(micro, caps
     assert proc.returncode == 2 and "strip_rev" in proc.stderr and "target_rev" in proc.stderr
     proc = cli("show", micro, "no_such_stage", capsys=capsys)
     assert proc.returncode == 2 and "residual_profile" in proc.stderr  # lists the stages
+
+
+def test_show_prints_values_as_a_person_reads_them_under_their_si_names(micro, capsys):
+    """Lengths in mm, stresses in MPa, speeds in m/s, 6 significant digits, whole numbers without a point;
+    each under the stored SI name and unit, so the variable can be found in the file."""
+    ctrl = peenflow.open_result(micro, "control_curve")
+    out = cli("show", micro, "control_curve", capsys=capsys).stdout
+    mm = ", ".join(f"{v / 1e-3:.6g}" for v in ctrl.intensity_m.values.ravel())
+    assert f"  intensity_m (angle_deg, velocity_m_s) [m]  Almen intensity\n      in mm: [[{mm}]]\n" in out, out
+    assert "  velocity_m_s (velocity_m_s) [m s-1]  shot velocity\n      [30, 55]\n" in out  # micro's velocities
+    assert f"  largest_shot_count = {int(ctrl.largest_shot_count)}  " in out  # 24, not 24.0
+    rev = peenflow.open_result(micro, "target_rev")
+    out = cli("show", micro, "target_rev", capsys=capsys).stdout
+    assert f"  rev_side_m = {float(rev.rev_side_m):.6g} m  ({float(rev.rev_side_m) / 1e-3:.6g} mm)  " in out, out
+    assert "  rev_side_m = 0.0012 m  (1.2 mm)  " in out  # micro.toml: target.rev_size_mm = 1.2
+    prof = peenflow.open_result(micro, "residual_profile")
+    out = cli("show", micro, "residual_profile", capsys=capsys).stdout
+    mpa = f"{float(prof.stress_xx_mean_Pa.isel(coverage_percent=0)[0]) / 1e6:.6g}"
+    assert re.search(r"  stress_xx_mean_Pa \([^)]*\) \[Pa\][^\n]*\n      in MPa: \[+" + re.escape(mpa) + ",", out), out
+    assert "  velocity_m_s = 45 m/s  " in cli("show", micro, "target_velocity", capsys=capsys).stdout
 
 
 def test_compressive_depth_is_the_zero_crossing_or_where_a_held_profile_fades():

@@ -91,6 +91,16 @@ def test_rerun_after_finishing_computes_nothing(micro):
     assert "+ computed" not in out and out.count("= reused") >= 10
 
 
+def test_status_why_names_a_changed_material_constant_with_old_and_new_values(micro, tmp_path):
+    """A material edit reads as the field that changed (SI, dotted path), not two JSON dicts."""
+    edited = tmp_path / "micro.toml"
+    edited.write_text(micro.read_text() + '\n[materials."Al7075-T73".johnson_cook]\nA_MPa = 500.0\n')
+    out = peenflow_cli("status", edited, "--store", micro.parent / ".peenflow", "--why").stdout
+    impact = next(line for line in out.splitlines() if line.strip().startswith("pending") and "target_impact" in line)
+    assert impact.endswith("target_impact  (parameters changed: material.A_Pa: 4.34e8 -> 5e8)"), out
+    assert "strip_runs[angle_deg=90,velocity_m_s=30,sequence=0]  (up to date)" in out  # the strip's material is not it
+
+
 def test_bad_study_gives_messages_and_computes_nothing(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text((HERE / "micro.toml").read_text()
@@ -145,6 +155,15 @@ def test_killed_study_resumes_mid_stage_to_the_identical_result(micro, tmp_path)
     else:
         raise AssertionError("no kill landed mid-point in 5 attempts")
     done_before = {p.name: p.read_bytes() for p in store.glob("results/*/*.nc")}
+    # status names the shot the next run resumes from: the shots in the checkpoint's kernel state
+    import xarray as xr
+
+    ck = unfinished_checkpoints()[0]
+    with xr.open_dataset(ck) as state:
+        shots = state.sizes["kernel__shot_records__0"]
+    status = peenflow_cli("status", study, "--why").stdout
+    line = next(ln for ln in status.splitlines() if ck.parent.name[:12] in ln)
+    assert f"(incomplete: the next run resumes from its checkpoint after {shots}/" in line, status
     out = subprocess.run([sys.executable, "-m", "peenflow.cli", "run", str(study), "--threads", "1"], capture_output=True,
                          text=True, env=env, timeout=600, check=True).stdout
     assert "resuming from checkpoint" in out
