@@ -44,7 +44,8 @@ def test_clean_keeps_what_the_given_study_uses_after_a_same_named_copy_ran(tmp_p
 
 
 def test_clean_racing_a_run_never_breaks_it(tmp_path):
-    # 8 slow points (long enough for several cleans on a loaded machine); the study file changes under the run (n=4 -> the running n=5 results are unreferenced
+    # 8 slow points, long enough for several cleans on a loaded machine; the study file changes under
+    # the run (n=4 -> the running n=5 results are unreferenced
     # by the file, which is exactly what a racing clean would delete)
     study = write_toy(tmp_path / "s", n=5, factors=list(range(1, 9)), delay_s=0.3, steps=40, counter_delay_s=0.3)
     store = tmp_path / "s" / ".peenflow"
