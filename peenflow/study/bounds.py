@@ -47,7 +47,7 @@ _MAT = "engineering metals (a typo by a factor of 1000 lands outside)"
 BOUNDS: tuple[Bound, ...] = (
     *(Bound(key, 1.0, 400.0, "m/s", _V)
       for key in ("almen.velocities_m_s", "target.velocity_m_s", "dmin.strip_velocity_m_s")),
-    *(Bound(key, 45.0, 90.0, "deg", _A) for key in ("almen.angles_deg", "target.angle_deg", "dmin.strip_angles_deg")),
+    *(Bound(key, 30.0, 90.0, "deg", _A) for key in ("almen.angles_deg", "target.angle_deg", "dmin.strip_angles_deg")),
     Bound("target.coverage_percent", 1.0, 1000.0, "%",
           "a 1000 % sequence finishes on the coarsest mesh (micro study, 100 um, 3 seeds); 10 000 % there ran "
           "away at 4100-5200 % (runaway energy, plastic strain near 10; docs/validation.md §8)"),

@@ -34,9 +34,9 @@ def _errors(cells: dict) -> tuple[float, ...]:
 
 
 def _validation_summary() -> dict:
-    """The 'Worst |error| over the four cases and the four aims' table of docs/validation.md section 4 (the
+    """The 'Worst |error| over the 5 cases and the four aims' table of docs/validation.md section 4 (the
     physical element, the shot aimed on a node and 1/4, 1/2, 3/4 of an element off it)."""
-    rows = _validation_rows("Worst |error| over the four cases and the four aims per element size", "h um")
+    rows = _validation_rows("Worst |error| over the 5 cases and the four aims per element size", "h um")
     return {float(cells["h um"]): _errors(cells) for cells in rows}
 
 
