@@ -101,7 +101,7 @@ def table() -> None:
 
 
 def summary() -> None:
-    """Largest |error| over the four cases per element size and form (for README's preset lines)."""
+    """Largest |error| over the cases per element size and form."""
     data = _load()
     refs = {case: reference(data, case)[0] for case in CASES}
     print("\n| form | h um | cases | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS | W_hg/W_int peak |")
@@ -147,7 +147,7 @@ def offset_table(sizes=OFFSET_SIZES) -> None:
                 else:
                     cells.append(f"{100 * e.mean():+.1f} % ({100 * e.min():+.1f} … {100 * e.max():+.1f})")
             print(f"| {case} | {h:g} | {len(runs)} | " + " | ".join(cells) + " |")
-    print("\nWorst |error| over the four cases and the four aims per element size:\n")
+    print(f"\nWorst |error| over the {len(CASES)} cases and the four aims per element size:\n")
     print("| h um | runs | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS |")
     print("|---|---|" + "---|" * (len(QUANTITIES) + 1))
     for h in sizes:
@@ -184,7 +184,7 @@ def cores(h_um: float = 25.0, variants=CORES) -> None:
 
 def core_table(data: dict, rows) -> None:
     """Per case the runs ``rows(case)`` gives ((label, stored run or None), ...) against the case's
-    reference, then each label's largest |error| over the four cases."""
+    reference, then each label's largest |error| over the cases."""
     print("| case | mesh | elements | steps | CPU s | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS |")
     print("|---|---|---|---|---|" + "---|" * (len(QUANTITIES) + 1))
     worst: dict = {}
@@ -196,7 +196,7 @@ def core_table(data: dict, rows) -> None:
             worst.setdefault(label, []).append((v, ref))
             print(f"| {case} | {label} | {v.get('elements', '')} | {v.get('steps', '')} | {v['cpu_s']:.1f} | "
                   + " | ".join(error_cells(v, ref)) + f" | {100 * profile_rms(v, ref):.1f} % |")
-    print("\nLargest |error| over the four cases (node-aimed):\n")
+    print(f"\nLargest |error| over the {len(CASES)} cases (node-aimed):\n")
     print("| mesh | CPU s (sum of 4) | " + " | ".join(q[1] for q in QUANTITIES) + " | profile RMS |")
     print("|---|---|" + "---|" * (len(QUANTITIES) + 1))
     for label, runs in worst.items():

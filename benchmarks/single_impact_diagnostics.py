@@ -8,7 +8,7 @@ the references: the stored runs (``peenflow/validation/data/single_impact.json``
 
 Usage (from the repository root, one thread: ``NUMBA_NUM_THREADS=1``)::
 
-    python benchmarks/single_impact_diagnostics.py friction   # the 45 deg hump with and without friction
+    python benchmarks/single_impact_diagnostics.py friction [CASE]  # the 45 deg (or CASE's) hump with and without friction
     python benchmarks/single_impact_diagnostics.py recovery   # normal dents: approach against recovery
     python benchmarks/single_impact_diagnostics.py variants   # thinner top layers, 20 um
 
@@ -26,7 +26,7 @@ import numpy as np
 
 from peenflow.validation import runs
 from peenflow.validation.readings import column_profile, profile_rms
-from peenflow.validation.single_impact import CASES, QUANTITIES, error, reference, run
+from peenflow.validation.single_impact import CASES, QUANTITIES, error, friction, reference, run
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -42,27 +42,32 @@ def hump(v: dict) -> tuple[float, float]:
     return float(HUMP_X_MM[i]), float(peaks[i])
 
 
-def friction_hump() -> None:
-    """The 45 deg case with and without friction at 25 and 12.5 um (runs not stored), and the hump of
-    every stored 45 deg run: where friction puts the compressive zone, against the element size
-    (docs/validation.md section 4, "Why the 45° profile misses")."""
-    ref, _ = reference(runs.load("single_impact"), "sae-55-45")
+def friction_hump(case: str = "sae-55-45") -> None:
+    """An oblique case with and without friction at 25 and 12.5 um (runs not stored), and the hump of
+    every stored run of it: where friction puts the compressive zone, against the element size
+    (docs/validation.md section 4, "Why the 45° profile misses"); and the friction's share of each impact
+    (:func:`peenflow.validation.single_impact.friction`: friction / normal impulse from the shot's spin,
+    the contact point's slip at separation, and the rigid sphere's)."""
+    ref, _ = reference(runs.load("single_impact"), case)
+    print(f"# {case}")
     print("| friction | h um | hump x mm (MPa) | dent centre um | dent | σxx peak | profile RMS against the "
-          "reference (friction 0.2) | vout_x m/s |")
-    print("|---|---|---|---|---|---|---|---|")
+          "reference (friction 0.2) | vout_x m/s | friction / normal impulse | slip at separation m/s (rigid) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for mu in (0.0, 0.2):
         for h in (25.0, 12.5):
-            v = run("sae-55-45", "physical", h, friction=mu)
+            v = run(case, "physical", h, friction=mu)
             x, p = hump(v)
+            f = friction(v, case, mu)
             print(f"| {mu:g} | {h:g} | {x:.3f} ({p:.0f}) | {v['dent_centre_mm'] * 1e3:.1f} | {v['dent_um']:.2f} um | "
-                  f"{v['sxx_peak_mpa']:.0f} MPa | {100 * profile_rms(v, ref):.1f} % | {v['vout_x']:.2f} |", flush=True)
+                  f"{v['sxx_peak_mpa']:.0f} MPa | {100 * profile_rms(v, ref):.1f} % | {v['vout_x']:.2f} | "
+                  f"{f['ratio']:.4f} | {f['slip_out']:.2f} ({f['slip_rigid']:.2f}) |", flush=True)
     full = runs.load_records(ROOT, "single_impact")
     if not full:
         print(f"\n(no full records at {runs.records_path(ROOT, 'single_impact').relative_to(ROOT)}: the stored "
               "runs' humps need their sigma_xx maps; see benchmarks/single_impact.py)")
         return
     print("\n| stored run | hump x mm (MPa) |\n|---|---|")
-    for key in sorted(k for k in full if k.startswith("sae-55-45/") and "offset" not in k):
+    for key in sorted(k for k in full if k.startswith(f"{case}/") and "offset" not in k):
         x, p = hump(full[key])
         print(f"| {key} | {x:.3f} ({p:.0f}) |")
 
@@ -113,10 +118,15 @@ def variants() -> None:
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="mode", required=True)
-    sub.add_parser("friction", help="the 45 deg case with and without friction at 25 and 12.5 um")
+    p = sub.add_parser("friction", help="an oblique case with and without friction at 25 and 12.5 um")
+    p.add_argument("case", nargs="?", default="sae-55-45", choices=[c for c, (_, _, a) in CASES.items() if a != 90.0])
     sub.add_parser("recovery", help="normal dents: largest approach, residual dent, recovery, contact")
     sub.add_parser("variants", help="thinner top layers and a uniform 20 um mesh at about the 25 um cost")
-    {"friction": friction_hump, "recovery": recovery, "variants": variants}[ap.parse_args(argv).mode]()
+    a = ap.parse_args(argv)
+    if a.mode == "friction":
+        friction_hump(a.case)
+    else:
+        {"recovery": recovery, "variants": variants}[a.mode]()
 
 
 if __name__ == "__main__":

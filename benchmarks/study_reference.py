@@ -12,6 +12,8 @@ A LEVEL is an element size in um (``25``), or an element size and a REV side in 
 the REV-size convergence of issue 10 §3), or for the target an element size and a
 number of sequences (``16s1``: its first sequence only -- the same shot stream as
 every level's first sequence, so the levels compare paired on it at half the cost).
+Any LEVEL may name a window of W contact radii (``40w0``: 40 um with every impact integrated
+on the whole mesh, ``fidelity.window_contact_radii = 0``: the window against the full mesh).
 
 A target LEVEL may also name the element size of its dent (``25d6.25s1``: REV at 25 um, the
 single impact whose dent gives N_f and N_c at 6.25 um, ``fidelity.dent_element_size_um``): levels
@@ -59,8 +61,8 @@ from pathlib import Path
 import numpy as np
 
 from peenflow.validation import runs
-from peenflow.validation.study_level import (dent_level_name, level_name, parse_dent_level, parse_level,
-                                             profile_figures, richardson, stage_results)
+from peenflow.validation.study_level import (dent_level_name, level_name, level_window, parse_dent_level,
+                                             parse_level, profile_figures, richardson, stage_results)
 
 ROOT = Path(__file__).resolve().parents[1]
 STUDIES = ROOT / "benchmarks" / "reference" / "studies"
@@ -69,7 +71,7 @@ PROFILE_DEPTH_M = 0.5e-3
 
 
 def _level_study(point: str, h_um: float, side_mm: float | None = None, sequences: int | None = None,
-                 dent_um: float | None = None) -> Path:
+                 dent_um: float | None = None, window: float | None = None) -> Path:
     text = (STUDIES / f"{point}.toml").read_text()
     lines, section = [], ""
     for ln in text.splitlines():
@@ -80,6 +82,8 @@ def _level_study(point: str, h_um: float, side_mm: float | None = None, sequence
             ln = f"element_size_um = {h_um!r}"
             if dent_um is not None:  # the target's dent (N_f, N_c) from a single impact at its own size
                 ln += f"\ndent_element_size_um = {dent_um!r}"
+            if window is not None:  # the window against the full mesh (0: every impact on the whole mesh)
+                ln += f"\nwindow_contact_radii = {window!r}"
         elif side_mm is not None and key.startswith(("rev_size_mm", "measure_size_mm")):
             ln = f"{key.split('=')[0].strip()} = {side_mm!r}"
         elif sequences is not None and section == "[target]" and key.startswith("sequences"):
@@ -87,7 +91,7 @@ def _level_study(point: str, h_um: float, side_mm: float | None = None, sequence
         lines.append(ln)
     d = STORE / point
     d.mkdir(parents=True, exist_ok=True)
-    path = d / f"h{level_name(h_um, side_mm, sequences, dent_um)}.toml"
+    path = d / f"h{level_name(h_um, side_mm, sequences, dent_um, window)}.toml"
     new = "\n".join(lines) + "\n"
     if not path.exists() or path.read_text() != new:
         path.write_text(new)
@@ -169,7 +173,8 @@ def _load() -> dict:
 def run(point: str, levels: list[str]) -> None:
     for level in levels:
         h, side, seqs, dent = parse_level(level)
-        study = _level_study(point, h, side, seqs, dent)
+        win = level_window(level)
+        study = _level_study(point, h, side, seqs, dent, win)
         t0, c0 = time.time(), resource.getrusage(resource.RUSAGE_CHILDREN)
         target = _is_target(point)
         cmd = [sys.executable, "-m", "peenflow.cli", "run", str(study),
@@ -183,7 +188,7 @@ def run(point: str, levels: list[str]) -> None:
             print(f"level {level} did not finish (rc {proc.returncode}); run again to resume")
             return
         entry = _collect_target(study) if target else _collect(study)
-        key = f"{point}/{level_name(h, side, seqs, dent)}"
+        key = f"{point}/{level_name(h, side, seqs, dent, win)}"
         prev = _load().get(key, {})
         # CPU of this call; a resumed level keeps the sum of its calls
         cpu = (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime)
@@ -219,7 +224,8 @@ def table(only: str | None = None) -> None:
             continue
         # mesh levels on the study's own REV; larger-REV levels (h@side) in a table of their own
         levels = sorted(((float(k.split("/")[1]), v) for k, v in data.items()
-                         if k.startswith(point + "/") and "@" not in k), reverse=True)
+                         if k.startswith(point + "/") and not set(k.split("/")[1]) & set("@w")), reverse=True)
+        windows = sorted((k.split("/")[1], v) for k, v in data.items() if k.startswith(point + "/") and "w" in k)
         sides = sorted((k.split("/")[1], v) for k, v in data.items() if k.startswith(point + "/") and "@" in k)
         common = set.intersection(*(set(v["profiles"]) for _, v in levels))
         rung = str(max(int(n) for n in common)) if common else None
@@ -242,6 +248,16 @@ def table(only: str | None = None) -> None:
                 print(f"| {name} | {v.get('rev_side_mm', float('nan')):g} | {v['intensity_mm']:.4f} | "
                       + ", ".join(f"{x:.4f}" for x in v["sequence_intensity_mm"])
                       + f" | {v['saturation_shots']:.0f} | {v['cpu_s']:.0f} |")
+        if windows:
+            print("\nThe window against the full mesh (wW: W contact radii, w0: every impact on the whole mesh):")
+            print("| level | intensity mm | per sequence | T shots | against the point's own window | CPU s |")
+            print("|---|---|---|---|---|---|")
+            own = dict(levels)
+            for name, v in windows:
+                base = own.get(parse_level(name)[0])
+                diff = f"{100 * (v['intensity_mm'] / base['intensity_mm'] - 1):+.2f} %" if base else ""
+                print(f"| {name} | {v['intensity_mm']:.4f} | " + ", ".join(f"{x:.4f}" for x in v["sequence_intensity_mm"])
+                      + f" | {v['saturation_shots']:.0f} | {diff} | {v['cpu_s']:.0f} |")
         if len(levels) >= 3:
             hs = [h for h, _ in levels[-3:]]
             quantities = [("intensity_mm", lambda v: v["intensity_mm"])]

@@ -456,7 +456,7 @@ class FidelityLevels:
     """What made a result, for its fidelity statement (:func:`peenflow.study.accuracy.statement`): the
     preset and its overrides (``describe()``), the element sizes of each level (um, as the file gives
     them and as the measured errors are tabled), the order of an intensity extrapolation, the dent's
-    refinement and the lateral faces."""
+    refinement, the lateral faces and the active window's size (contact radii; 0: the whole mesh)."""
 
     description: str
     element_size_um: float
@@ -465,6 +465,7 @@ class FidelityLevels:
     intensity_order: float
     dent_element_size_um: float | None
     dent_refinement: str
+    window_contact_radii: float
 
     def describe(self) -> str:
         return self.description
@@ -564,7 +565,7 @@ def study_params(study) -> StudyParams:
     f = study.fidelity
     fidelity = FidelityParams.from_study(f)
     levels = FidelityLevels(f.describe(), f.element_size_um, f.lateral_boundary, f.extrapolate_intensity_from_um,
-                            f.intensity_order, f.dent_element_size_um, f.dent_refinement)
+                            f.intensity_order, f.dent_element_size_um, f.dent_refinement, f.window_contact_radii)
     extrapolation = coarse_fidelity = None
     if (hc := f.extrapolate_intensity_from_um) is not None:
         extrapolation = ExtrapolationParams(hc * UM, fidelity.element_size_m, f.intensity_order,

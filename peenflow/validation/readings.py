@@ -285,8 +285,9 @@ def metrics(res, mesh: BoxMesh) -> dict:
     """Every figure of one single-impact run (``res``: what :func:`peenflow.fe.impact.run_impacts` returns for one shot
     on ``mesh``): the surface figures (:func:`surface_metrics`) read on the line y = 0, which is kept
     (``surface_x_mm`` / ``surface_uz_um``), the sigma_xx(x, z) map (:func:`sxx_map`) and the column profile's
-    figures (:func:`profile_metrics`), the shot's contact figures, restitution and energy error, and
-    the peak hourglass / internal energy ratio."""
+    figures (:func:`profile_metrics`), the shot's contact figures, restitution, rebound velocity (m/s)
+    and spin about y (rad/s; the friction's moment, :func:`friction_ratio`), energy error, and the peak
+    hourglass / internal energy ratio."""
     nnx, nny, _ = mesh.shape_nodes
     X = res.nodes[: nnx * nny]
     uz = res.displacement[: nnx * nny, 2]
@@ -302,7 +303,8 @@ def metrics(res, mesh: BoxMesh) -> dict:
     out.update(max_approach_um=float(s["max_approach"][0]) * 1e6, peak_force_n=float(s["peak_force"][0]),
                contact_radius_um=float(s["contact_radius"][0]) * 1e6,
                max_contact_radius_um=float(s["max_contact_radius"][0]) * 1e6)
-    out.update(restitution=float(s["restitution"][0]), vout_x=float(s["vout_x"][0]), steps=int(s["steps"][0]),
+    out.update(restitution=float(s["restitution"][0]), vout_x=float(s["vout_x"][0]), vout_z=float(s["vout_z"][0]),
+               spin_out_y=float(s["spin_out_y"][0]), steps=int(s["steps"][0]),
                hg_over_int=float(np.max(hist["w_hourglass"]) / np.max(hist["w_int"])),
                energy_error=float(s["energy_error"][0]), surface_x_mm=(xs * 1e3).tolist(),
                surface_uz_um=(us * 1e6).tolist())

@@ -39,6 +39,7 @@ CASES = {  # name: (material, speed m/s, angle to the surface deg)
     "sae-25-90": (SAE1070, 25.0, 90.0),
     "sae-55-90": (SAE1070, 55.0, 90.0),
     "sae-55-45": (SAE1070, 55.0, 45.0),
+    "sae-55-30": (SAE1070, 55.0, 30.0),
     "al-47-65": (AL7075, 47.0, 65.0),
 }
 ELEMENTS = {  # name: Options fields
@@ -132,6 +133,28 @@ def run(case: str, element: str, h_um: float, offset: float = 0.0, friction: flo
                command=f"python benchmarks/single_impact.py run {case} {element} {h_um:g}"
                        + (f" {offset:g}" if offset else ""), offset_elements=offset)
     return out
+
+
+def friction(v: dict, case: str, mu: float = 0.2) -> dict:
+    """The Coulomb friction's share of a run ``v`` of ``case`` (friction coefficient ``mu``, the kernel's
+    default 0.2), from the shot's rebound alone.
+
+    ``ratio``: friction impulse over normal impulse. Normal impulses point at the shot's centre and give
+    it no moment, so the friction impulse is ``I |omega_y| / R = 2/5 m R |omega_y|`` (spin about y, the
+    only one the half model's plane holds); the normal impulse is the shot's normal momentum change
+    ``m (v_in,z - v_out,z)``. Coulomb's law makes the ratio ``<= mu`` node by node, ``= mu`` where the
+    contact slides throughout (over a dent whose walls tilt the normal, within a few per cent).
+    ``slip_out``: the contact point's velocity along the surface at separation, ``v_out,x + omega_y R``
+    (m/s; > 0: still sliding). A rigid sphere sliding throughout loses ``mu dv_n`` of its tangential
+    speed and gains ``5/2 mu dv_n / R`` of spin (``dv_n = v_in,z - v_out,z``), so its contact point
+    slows by ``7/2 mu dv_n``: ``slip_rigid`` = ``v_in,x - 7/2 mu dv_n``, > 0 when it slides throughout
+    (at 30 deg and mu = 0.2: v_t / v_n = 1.73 against 7/2 mu (1 + e) = 1.1; at 45 deg: 1.0 against 1.05,
+    the contact reaches rolling)."""
+    _, speed, angle = CASES[case]
+    th = np.radians(angle)
+    dvn = speed * np.sin(th) - v["vout_z"]
+    return dict(ratio=0.4 * R * abs(v["spin_out_y"]) / dvn, slip_out=v["vout_x"] + v["spin_out_y"] * R,
+                slip_rigid=speed * np.cos(th) - 3.5 * mu * dvn)
 
 
 #: shot aims, in elements from a node along the plane of incidence, of the ``offsets`` runs, and

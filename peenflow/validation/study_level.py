@@ -4,9 +4,12 @@ and profiles stop changing, and what each element size's study-level figures are
 Points (study files ``benchmarks/reference/studies/POINT.toml``): the strip points
 ``strip_90_55``, ``strip_67_25``, ``strip_67_30``, ``strip_67_35`` (periodic 1.2 mm REV, the standard
 preset's settings with only the element size varied, paired shot streams) and the target
-``al7075_30`` (Al 7075-T73, 65 deg, 30 m/s, 200 %). A level's key is ``POINT/LEVEL``; a LEVEL is
-``H[@SIDE][dHD][sN]`` (:func:`parse_level`): element size um, a larger periodic REV side mm, the
-element size um of the target's dent, the target's first N sequences only; the target's single
+``al7075_30`` (Al 7075-T73, 65 deg, 30 m/s, 200 %); the shallow-angle strip point ``strip_30_55``
+(:data:`SHALLOW_POINTS`: 30 deg, 55 m/s, beyond the paper's angles; not among the points every
+study's statement is measured on). A level's key is ``POINT/LEVEL``; a LEVEL is
+``H[@SIDE][wW][dHD][sN]`` (:func:`parse_level`): element size um, a larger periodic REV side mm, a
+window of W contact radii (0: the whole mesh), the element size um of the target's dent, the target's
+first N sequences only; the target's single
 impact alone is ``POINT/dent/H[cC]`` (:func:`parse_dent_level`: a core of C um under the impact).
 The measured levels: :func:`peenflow.validation.runs.load` ``("study_level")``; the driver that
 makes them: ``benchmarks/study_reference.py``; the tables of the errors: ``benchmarks/presets.py``.
@@ -36,6 +39,8 @@ from . import runs
 
 #: the strip points, and those of the 67.5 deg control curve by velocity m/s
 STRIP_POINTS = ("strip_90_55", "strip_67_25", "strip_67_30", "strip_67_35")
+#: strip points at angles beyond the paper's, run the same way (docs/validation.md, shallow angles)
+SHALLOW_POINTS = ("strip_30_55",)
 CURVE = {25.0: "strip_67_25", 30.0: "strip_67_30", 35.0: "strip_67_35"}
 #: the section 5 target
 TARGET = "al7075_30"
@@ -46,18 +51,28 @@ RMS_DEPTH_MM = 0.3
 
 
 def parse_level(text: str) -> tuple[float, float | None, int | None, float | None]:
-    """``H[@SIDE][dHD][sN]`` -> (element size um, REV side mm or None, target sequences or None,
-    the target's dent element size um or None)."""
+    """``H[@SIDE][wW][dHD][sN]`` -> (element size um, REV side mm or None, target sequences or None,
+    the target's dent element size um or None); the window ``wW``: :func:`level_window`."""
     text, _, seqs = text.partition("s")
     text, _, dent = text.partition("d")
+    text = text.partition("w")[0]
     h, _, side = text.partition("@")
     return float(h), (float(side) if side else None), (int(seqs) if seqs else None), (float(dent) if dent else None)
 
 
+def level_window(text: str) -> float | None:
+    """The ``fidelity.window_contact_radii`` of a level ``...wW...`` (``40w0``: 40 um, the whole mesh
+    integrated at every impact: the window against the full mesh), or None (the point's own)."""
+    win = text.partition("s")[0].partition("d")[0].partition("w")[2]
+    return float(win) if win else None
+
+
 def level_name(h_um: float, side_mm: float | None, sequences: int | None = None,
-               dent_um: float | None = None) -> str:
-    """The name :func:`parse_level` reads."""
+               dent_um: float | None = None, window: float | None = None) -> str:
+    """The name :func:`parse_level` and :func:`level_window` read."""
     name = f"{h_um:g}" if side_mm is None else f"{h_um:g}@{side_mm:g}"
+    if window is not None:
+        name += f"w{window:g}"
     if dent_um is not None:
         name += f"d{dent_um:g}"
     return name if sequences is None else f"{name}s{sequences}"
@@ -126,9 +141,10 @@ def richardson(hs, fs, p_range=(0.5, 4.0)):
 
 
 def point_levels(data: dict, point: str) -> dict[float, dict]:
-    """{element size um: level} of a point's levels on its own REV (no ``@SIDE``, no ``sN``)."""
+    """{element size um: level} of a point's levels on its own REV and window (no ``@SIDE``, ``wW``,
+    ``sN``)."""
     return {float(k.split("/")[1]): v for k, v in data.items()
-            if k.startswith(point + "/") and not set(k.split("/")[1]) & set("@s")}
+            if k.startswith(point + "/") and not set(k.split("/")[1]) & set("@sw")}
 
 
 def target_levels(data: dict) -> dict[float, dict]:

@@ -10,6 +10,8 @@ measured error rounded up, named ``MISSED`` so the gap stays visible
 (docs/validation.md section 4).
 """
 
+import math
+
 import pytest
 
 from peenflow.validation import goals as G
@@ -58,6 +60,16 @@ MISSED = {
     ('sae-25-90', 50, 'restitution'): 0.07,
     ('sae-25-90', 50, 'sxx_peak_mpa'): 0.14,
     ('sae-25-90', 50, 'zero_depth_mm'): 0.15,
+    # 30 deg: the sigma_xx peak under the dent converges at order ~1.3 (+34.8 / +14.4 / +5.9 % at
+    # 25 / 12.5 / 6.25 um against the Richardson reference), the friction hump of the 45 deg case
+    # stronger (docs/validation.md, shallow angles); dent, its radius, zero crossing and rebound meet
+    # the goals
+    ('sae-55-30', 25, 'crest_height_um'): 0.44,
+    ('sae-55-30', 25, 'hg_over_int'): 0.09,
+    ('sae-55-30', 25, 'profile_rms'): 0.14,
+    ('sae-55-30', 25, 'sxx_peak_mpa'): 0.36,
+    ('sae-55-30', 50, 'profile_rms'): 0.21,
+    ('sae-55-30', 50, 'sxx_peak_mpa'): 0.50,
     ('sae-55-45', 25, 'crest_height_um'): 0.26,
     ('sae-55-45', 25, 'crest_radius_mm'): 0.15,
     ('sae-55-45', 25, 'dent_radius_mm'): 0.06,
@@ -120,17 +132,46 @@ def test_normal_impact_between_nodes_at_25um():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", ["sae-55-45", "al-47-65"])
+@pytest.mark.parametrize("case", ["sae-55-45", "sae-55-30", "al-47-65"])
 def test_oblique_impacts_at_25um(case):
     got, _ = _check(case, 25, GOAL_25)
     assert got["energy_error"] < 0.005
     assert got["hg_over_int"] <= MISSED.get((case, 25, "hg_over_int"), 0.05)
+    if case.startswith("sae-55-"):
+        _assert_coulomb(got, case)
 
 
 @pytest.mark.parametrize("case", list(si.CASES))
 def test_impacts_at_50um(case):
     got, _ = _check(case, 50, GOAL_50)
     assert got["energy_error"] < 0.01
+
+
+def _assert_coulomb(got, case):
+    """Coulomb's law read off the shot's rebound (si.friction): the friction impulse (from the spin it
+    gave the shot) is at most mu = 0.2 of the normal impulse, within 3 % for the normals the dent's
+    walls tilt. At 30 deg the shot slides throughout (rigid-body theory: v_t / v_n = 1.73 above
+    7/2 mu (1 + e) = 1.1): the ratio is mu itself and the contact point still slides at separation, at
+    about the rigid sphere's speed (16.9 m/s at 25 um); at 45 deg (1.0 against 1.05) the contact
+    reaches rolling: the contact point leaves at under a tenth of the shot's tangential speed."""
+    _, speed, angle = si.CASES[case]
+    f = si.friction(got, case)
+    v_t = speed * math.cos(math.radians(angle))
+    assert f["ratio"] <= 0.2 * 1.03, (case, f)
+    if f["slip_rigid"] > 0.1 * v_t:
+        assert f["ratio"] == pytest.approx(0.2, rel=0.03), (case, f)
+        assert 0.25 * v_t < f["slip_out"] <= f["slip_rigid"] * 1.05, (case, f)
+    else:
+        assert abs(f["slip_out"]) < 0.1 * v_t, (case, f)
+
+
+@pytest.mark.parametrize("case", [c for c, (_, _, a) in si.CASES.items() if a < 50.0])
+def test_shallow_impacts_balance_energy_and_obey_coulomb_at_50um(case):
+    """The shallow cases (45 and 30 deg) on the 50 um block: the energy balance closes within 0.5 % of
+    the impact energy (measured 0.37 / 0.21 % at 45 / 30 deg) and the friction follows Coulomb (:func:`_assert_coulomb`)."""
+    got = si.run(case, "physical", 50)
+    assert got["energy_error"] < 0.005
+    _assert_coulomb(got, case)
 
 
 def test_surface_metric_on_a_coarser_sampling_of_the_same_line():
@@ -154,15 +195,17 @@ def test_dent_depth_read_between_nodes_on_a_coarser_sampling_of_the_same_line():
     line, whole (a quarter model's mirrored about its axis), taken at every 4th node from each of the
     4 offsets -- a 25 um grid with the dent bottom on a node, or 1/4, 1/2, 3/4 of an element off.
     Read on the surface spline between nodes the depth is within 1 % of the full line's at every
-    offset (measured -0.26 ... -0.87 % at worst), the 3 % goal is the element's to meet; the deepest
-    node alone misses by up to 4 % on the normal dents (a parabolic bottom read h / 2 off its vertex),
+    offset (measured -0.26 ... -0.87 % at worst; the flatter 30 deg dent within 1.1 %, -1.03 %), the
+    3 % goal is the element's to meet; the deepest node alone misses by up to 4 % on the normal dents (a parabolic bottom read h / 2 off its vertex),
     which the old reading charged the element with."""
     import numpy as np
 
     rows = rd.sampling_bias(DATA, step=4)
     assert {r["run"].split("/")[0] for r in rows} == set(si.CASES)
     for r in rows:
-        assert -0.01 <= r["dent_worst"] <= r["dent_bias"] <= 0.0, r
+        # the 30 deg dent, 7.3 um deep over a 66 um radius, the flattest: -1.03 % at worst
+        worst = 0.011 if r["run"].startswith("sae-55-30/") else 0.01
+        assert -worst <= r["dent_worst"] <= r["dent_bias"] <= 0.0, r
     v = DATA["sae-25-90/physical/6.25"]
     x, u = rd.whole_line(np.array(v["surface_x_mm"]) * 1e-3, np.array(v["surface_uz_um"]) * 1e-6)
     node_only = min(u[o::4].max() / u.max() - 1.0 for o in range(4))
