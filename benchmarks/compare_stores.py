@@ -32,6 +32,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from peenflow.engine import DirectoryStore
+
 #: unit -> (factor to SI, SI unit, the name suffixes that spell it)
 UNITS = {
     "mm": (1e-3, "m", ("_mm",)),
@@ -62,7 +64,8 @@ def si_name_and_values(name: str, var: xr.DataArray) -> tuple[str, np.ndarray]:
 def results(store: Path) -> dict[tuple[str, str], Path]:
     """{(stage, point): result file}; of several for one point, the newest."""
     found: dict[tuple[str, str], Path] = {}
-    for path in sorted((store / "results").glob("*/*.nc"), key=lambda p: p.stat().st_mtime):
+    files = [path for _, _, path in DirectoryStore(store).all_results()]
+    for path in sorted(files, key=lambda p: p.stat().st_mtime):
         with xr.open_dataset(path) as ds:
             label = (str(ds.attrs.get("peenflow_stage")), str(ds.attrs.get("peenflow_point")))
         found[label] = path

@@ -18,6 +18,7 @@ import xarray as xr
 from tasks.pipeline import build_graph
 
 from .engine import DirectoryStore, Graph, load_graph, stage_result
+from .engine.store import default_root
 
 STORE_ENV = "PEENFLOW_STORE"
 
@@ -27,7 +28,7 @@ def default_store_path(study_path: str | os.PathLike) -> Path:
     env = os.environ.get(STORE_ENV)
     if env:
         return Path(env)
-    return Path(study_path).resolve().parent / ".peenflow"
+    return default_root(study_path)
 
 
 def load_study_graph(study_path: str | os.PathLike) -> Graph:

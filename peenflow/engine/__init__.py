@@ -11,14 +11,15 @@ It knows nothing about shot peening.  Pieces, one module each:
 * ``content``      content hashes of Datasets (early cut-off)
 * ``keys``         result keys and the typed reason a point must run
 * ``reasons``      the reasons and states themselves
-* ``store``        the directory store of netCDF results + manifests
+* ``store``        the store: results (+ manifests, failures) and run records (slots, progress,
+                   checkpoints, leases, live runs); the only module that builds paths in a store
 * ``atomic``       write to a unique temporary name, fsync, rename
 * ``netcdf_io``    every netCDF read and write behind one process-wide lock
 * ``conventions``  the CF attributes every stored result gets
 * ``combine``      a sweep's results combined into one Dataset along its dims
 * ``results``      opening a stage's results as one Dataset
 * ``lease``        per-key leases (mkdir, heartbeat, unlock)
-* ``checkpoint``   intermediate state of long tasks
+* ``checkpoint``   intermediate state of long tasks, and the one rule of what a checkpoint is worth
 * ``context``      what a running task may ask (progress, checkpoints, whether to stop)
 * ``interrupt``    the per-process stop request (Ctrl-C, SIGTERM, SIGHUP)
 * ``cluster_stop`` that request passed on to the points on dask.distributed workers
@@ -27,6 +28,7 @@ It knows nothing about shot peening.  Pieces, one module each:
 * ``runner``       running one point
 * ``point_states`` each point's state and reason from the store, without computing
 * ``planner``      status / dry-run: grow the graph, then state every point
+* ``housekeeping`` the clean policy: what ``clean`` removes and keeps, and its lock
 * ``executor``     dask local or distributed execution
 * ``progress``     console output: progress bars or timestamped lines, summaries
 """

@@ -9,17 +9,33 @@ A checkpoint also records how far the task had got (its last progress
 report: done, total, unit, e.g. 12 of 24 shots) in its attributes, so
 ``peenflow status`` can say where the next run resumes without the dead
 run's own count, which may be past the checkpoint.
+
+One rule (:func:`judge`) says what a key's checkpoint is worth, for the
+run (which resumes from it, or tidies it away), ``status`` (which says where
+the next run resumes) and ``clean`` (which removes leftovers):
+
+* *absent*: no checkpoint saved (no folder, or a folder without
+  ``checkpoint.nc``: a save killed before its rename);
+* *leftover*: the key has a valid result completed after everything in the
+  folder was written (or the folder is empty): the run that made the result
+  was killed before it removed its checkpoint.  A checkpoint *newer* than
+  the result belongs to a killed forced rerun and is not a leftover;
+* *unreadable*: it cannot be read whole (garbage, truncated by a full disk
+  or a crash of the disk itself): the next run drops it and starts over;
+* *resumable*: the next run resumes from it (at its position, if saved with one).
 """
 
 from __future__ import annotations
 
+import enum
 import shutil
+from dataclasses import dataclass
 from pathlib import Path
 
 import xarray as xr
 
 from .atomic import fsync_file, temporary_sibling
-from .netcdf_io import read_attrs, read_dataset, write_dataset
+from .netcdf_io import read_dataset, write_dataset
 from .space import no_space, remove_partial
 
 CHECKPOINT_FILE = "checkpoint.nc"
@@ -82,13 +98,48 @@ class Checkpoints:
             self.unreadable = f"{type(exc).__name__}: {exc}"
             return None
 
-    def position(self) -> dict | None:
-        """How far the task had got at the last checkpoint (:func:`position_of`), or None: none saved, one
-        saved without a position, or one that cannot be read."""
-        try:
-            return position_of(read_attrs(self.path)) if self.path.exists() else None
-        except (OSError, ValueError, RuntimeError):
-            return None
-
     def clear(self) -> None:
         shutil.rmtree(self.directory, ignore_errors=True)
+
+
+class CheckpointState(enum.Enum):
+    ABSENT = "absent"
+    LEFTOVER = "leftover"
+    UNREADABLE = "unreadable"
+    RESUMABLE = "resumable"
+
+
+@dataclass(frozen=True)
+class CheckpointVerdict:
+    state: CheckpointState
+    #: RESUMABLE: how far the task had got (:func:`position_of`; None if saved without one)
+    position: dict | None = None
+    #: UNREADABLE: the read error
+    why: str = ""
+
+
+def judge(store, key: str, task: str | None = None) -> CheckpointVerdict:
+    """What the checkpoint of ``key`` in ``store`` is worth (the module's rule); ``task``: the key's task if
+    known (else a valid result of ``key`` under any task makes the checkpoint a leftover)."""
+    checkpoints = store.checkpoints(key)
+    try:
+        files = list(checkpoints.directory.iterdir())
+    except OSError:  # no folder (or removed meanwhile)
+        return CheckpointVerdict(CheckpointState.ABSENT)
+    stored_at = store.stored_at(key, task)
+    if stored_at is not None and max(map(_mtime, files), default=float("-inf")) <= stored_at:
+        return CheckpointVerdict(CheckpointState.LEFTOVER)
+    if not checkpoints.exists():
+        return CheckpointVerdict(CheckpointState.ABSENT)
+    state = checkpoints.load()
+    if state is None:
+        return CheckpointVerdict(CheckpointState.UNREADABLE, why=checkpoints.unreadable) \
+            if checkpoints.unreadable else CheckpointVerdict(CheckpointState.ABSENT)
+    return CheckpointVerdict(CheckpointState.RESUMABLE, position_of(state.attrs))
+
+
+def _mtime(path: Path) -> float:
+    try:
+        return path.stat().st_mtime
+    except OSError:  # removed meanwhile: counts as old
+        return 0.0

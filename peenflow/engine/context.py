@@ -12,7 +12,7 @@ import time
 
 import xarray as xr
 
-from .checkpoint import Checkpoints, position_of
+from .checkpoint import position_of
 from .interrupt import Interrupted, stop_requested
 
 
@@ -41,7 +41,7 @@ class TaskContext:
         self._budget = budget
         self.granted: int | None = None  # threads handed out, once asked for
         self._store = store
-        self._checkpoints = Checkpoints(store.checkpoint_dir(key))
+        self._checkpoints = store.checkpoints(key)
         self._last_progress = 0.0
         self._started = time.time()
         self._progress_base: tuple[float, float] | None = None

@@ -26,7 +26,6 @@ import socket
 import threading
 import time
 import uuid
-from pathlib import Path
 
 from .cluster_stop import StopRelay, variable_name
 from .cores import CoreBudget, set_active_budget, wanted_threads
@@ -36,7 +35,7 @@ from .point_states import plan_items
 from .progress import Reporter
 from .reasons import State
 from .runner import Outcome, PointSpec, UpstreamRef, run_node, set_notice
-from .store import DirectoryStore
+from .store import CLEAN_LOCK, DirectoryStore
 
 #: seconds to wait for a dask scheduler to answer (``$PEENFLOW_SCHEDULER_TIMEOUT_S``)
 SCHEDULER_TIMEOUT_S = float(os.environ.get("PEENFLOW_SCHEDULER_TIMEOUT_S", "30"))
@@ -96,19 +95,16 @@ class _ProgressMonitor(threading.Thread):
         self._seen: dict[str, tuple] = {}
 
     def run(self) -> None:
-        base = self.store.root / "progress"
         while not self.stop.wait(self.every_s):
-            if not base.exists():
-                continue
             moved = False
-            for p in sorted(base.glob("*.json")):
-                rec = self.store.progress(p.stem)
+            for key in self.store.progress_keys():
+                rec = self.store.progress(key)
                 if not rec or rec.get("study") != self.study:
                     continue
                 stamp = (rec.get("done"), rec.get("total"))
-                if self._seen.get(p.stem) != stamp:
-                    self._seen[p.stem] = stamp
-                    self.reporter.progress(rec.get("point", p.stem), rec)
+                if self._seen.get(key) != stamp:
+                    self._seen[key] = stamp
+                    self.reporter.progress(rec.get("point", key), rec)
                     moved = True
             if moved:
                 self.reporter.tick()
@@ -119,7 +115,7 @@ def execute(graph: Graph, store: DirectoryStore, nodes: list[Node], *, forced: s
             reporter: Reporter | None = None, progress_every_s: float | None = None) -> list[Outcome]:
     """Run ``nodes`` (an ancestor-closed subset of ``graph``, in graph order)."""
     reporter = reporter or Reporter()
-    Path(store.root).mkdir(parents=True, exist_ok=True)
+    store.create()
     registration = register_run(store, graph.name)
     try:
         if graph.growing:
@@ -179,7 +175,7 @@ def register_run(store: DirectoryStore, study: str):
     except OSError:
         return None
     while True:
-        info, alive, _ = store.locks.verdict("clean")
+        info, alive, _ = store.locks.verdict(CLEAN_LOCK)
         # another host's clean silent for a minute is not deleting any more: do not wait the 10 minutes
         # its lease takes to count as dead (a clean that starts later sees this run anyway)
         if info is None or alive is False or (alive is None and info.heartbeat_age_s > STALE_AFTER_S):

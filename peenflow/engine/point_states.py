@@ -1,7 +1,7 @@
 """Each point's state and the reason it would run, from the store alone: what ``plan`` reports.
 
 The rules are the runner's (``keys.reason_against_slot``, ``store.check``,
-the lease verdict) applied without computing anything.  A point whose upstream
+the checkpoint rule ``checkpoint.judge``, the lease verdict) applied without computing anything.  A point whose upstream
 is not yet computed has no key yet (keys include upstream *content*); it is
 shown as pending with the reason judged from what is known.  Growing sweeps
 are not grown here (:mod:`.planner` grows them first; :mod:`.growth` asks
@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .checkpoint import Checkpoints, describe_position
+from .checkpoint import CheckpointState, describe_position, judge
 from .graph import Graph, Group, Node
 from .keys import KeyParts, reason_against_slot
 from .lease import STALE_AFTER_S
@@ -91,12 +91,14 @@ def plan_items(graph: Graph, store: DirectoryStore, nodes: list[Node] | None = N
             reason, detail = reason_against_slot(slot, task.name, code, node.params, ups)
             if reason is Reason.INCOMPLETE and problem != "missing":
                 detail = problem
-        checkpoint = Checkpoints(store.checkpoint_dir(key))
-        if checkpoint.exists() and not is_forced:
+        checkpoint = judge(store, key, task.name) if not is_forced else None
+        if checkpoint is not None and checkpoint.state is CheckpointState.RESUMABLE:
             # where the next run resumes: the checkpoint's position, not a killed run's own count
-            where = describe_position(checkpoint.position())
+            where = describe_position(checkpoint.position)
             reason, detail = Reason.INCOMPLETE, (f"the next run resumes from its checkpoint {where}" if where
                                                  else "checkpoint present; will resume from it")
+        elif checkpoint is not None and checkpoint.state is CheckpointState.UNREADABLE:
+            detail = "; ".join(d for d in (detail, "its checkpoint cannot be read: the next run starts over") if d)
         state = State.PENDING
         progress = None  # a live run's own count (a dead run's is not where anything resumes)
         # The runner's rule (lease.verdict): running while the holder lives; another host's lease

@@ -12,7 +12,6 @@ from __future__ import annotations
 import json
 import os
 import platform
-import shutil
 import socket
 import sys
 import time
@@ -25,7 +24,7 @@ import xarray as xr
 from .. import __version__
 from .blas import pin_blas_threads
 from .canonical import canonical_json
-from .checkpoint import describe_position
+from .checkpoint import CheckpointState, describe_position, judge
 from .cluster_stop import worker_check
 from .combine import combine_points
 from .context import TaskContext
@@ -290,9 +289,8 @@ def _tidy_after_finished(store: DirectoryStore, task: str, key: str, notes: list
             notes.append(broke)
         if store.leases.info(key) is not None:
             return
-        ck = store.checkpoint_dir(key)
-        if ck.exists() and _checkpoint_predates_result(store, task, key):
-            shutil.rmtree(ck, ignore_errors=True)
+        if judge(store, key, task).state is CheckpointState.LEFTOVER:
+            store.checkpoints(key).clear()
             notes.append("removed the checkpoint a finished run left behind")
         store.clear_progress(key)
     except OSError:
@@ -320,7 +318,7 @@ def _compute(task, store, spec, ups, parts: KeyParts, reason, detail, upstream_k
 def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, upstream_keys) -> Outcome:
     key = parts.key
     source_hash = task.source_hash()
-    if reason is Reason.FORCED and ctx.resumed and _checkpoint_predates_result(store, task.name, key):
+    if reason is Reason.FORCED and ctx.resumed and judge(store, key, task.name).state is CheckpointState.LEFTOVER:
         ctx.clear_checkpoint()  # left by the run that made the result: not this rerun's work
         ctx.resumed = False
     planned = (reason, detail)
@@ -408,15 +406,3 @@ def _compute_in(ctx, task, store, spec, ups, parts: KeyParts, reason, detail, up
     return _outcome(spec, key, "computed", reason, _join(detail, *ctx.notes),
                     content_hash=manifest.content_hash, wall_s=time.time() - started, upstream_keys=upstream_keys)
 
-
-def _checkpoint_predates_result(store: DirectoryStore, task: str, key: str) -> bool:
-    """True when ``key`` has a valid result written after its checkpoint (a leftover of that run)."""
-    manifest, _ = store.check(task, key)
-    if manifest is None:
-        return False
-    try:
-        ck = store.checkpoint_dir(key)
-        newest = max(p.stat().st_mtime for p in ck.iterdir())
-        return newest <= store.manifest_path(task, key).stat().st_mtime
-    except (OSError, ValueError):
-        return True

@@ -1,4 +1,18 @@
-"""The results store: one netCDF file per result in a directory tree.
+"""The store: one directory holding results and the records of the runs that made them.
+
+It is the only module that builds paths inside a store; every other module
+asks it for a location or a record.  Two small interfaces, the way Hamilton
+splits its cache into a result store and a metadata store:
+
+* :class:`ResultStore` -- the results: ``write_result`` / ``check`` / ``open``,
+  their manifests, and the failure record of a point that could not be
+  computed;
+* :class:`RunRecords` -- what runs leave while they work: slots (each
+  point's last attempt), progress records, checkpoints, per-key leases, the
+  registry of live runs and the locks of destructive verbs.
+
+:class:`DirectoryStore` is both on one directory, plus what concerns the
+whole directory (stray temporaries, report folders).
 
 Layout under the store root::
 
@@ -17,6 +31,10 @@ Layout under the store root::
     leases/<key>/               see lease.py
     runs/<host>.<pid>.<id>/     one per live run (a lease without a key): what ``clean`` must respect
     locks/clean/                held while ``clean`` deletes; a run starting meanwhile waits for it
+    reports/<name>/             plots and report.html of a study
+
+Inside ``checkpoints/<key>/`` and ``leases/<key>/`` the layout belongs to
+checkpoint.py and lease.py, which get their directory from here.
 
 A result whose file is missing, truncated or altered (size or SHA-256 differ
 from the manifest), or whose manifest's content hash is not the hash of the
@@ -37,6 +55,7 @@ import xarray as xr
 
 from .atomic import TMP_SUFFIX, fsync_file, read_json, temporary_sibling, write_json_atomic
 from .canonical import digest
+from .checkpoint import Checkpoints
 from .content import dataset_content_hash
 from .lease import LeaseTable
 from .netcdf_io import open_lazy, read_dataset, write_dataset
@@ -74,19 +93,28 @@ def slot_id(label: str) -> str:
     return digest(label or "-", 16)
 
 
-class DirectoryStore:
-    """Embedded, server-less store on a (possibly shared) directory."""
+#: the lock ``clean`` holds while it deletes (``locks/clean/``)
+CLEAN_LOCK = "clean"
+#: the store's folder beside a study file, when neither ``--store`` nor ``$PEENFLOW_STORE`` names one
+DEFAULT_DIRNAME = ".peenflow"
 
-    def __init__(self, root: str | os.PathLike):
-        self.root = Path(root).resolve()
-        self.leases = LeaseTable(self.root / "leases")
-        #: one entry per live ``execute`` (so ``clean`` leaves alone what a running run writes)
-        self.runs = LeaseTable(self.root / "runs")
-        #: store-wide locks of destructive verbs (``clean``)
-        self.locks = LeaseTable(self.root / "locks")
+
+def default_root(study_path: str | os.PathLike) -> Path:
+    """The store of a study file by default: ``.peenflow/`` beside it."""
+    return Path(study_path).resolve().parent / DEFAULT_DIRNAME
+
+
+def _files(base: Path, pattern: str):
+    return sorted(base.glob(pattern)) if base.exists() else []
+
+
+class ResultStore:
+    """The results of a store: each a netCDF file with its manifest, or the failure record of a point."""
+
+    def __init__(self, root: Path):
+        self.root = root
         self._verified: dict[tuple, bool] = {}
 
-    # -- paths ----------------------------------------------------------------
     def result_path(self, task: str, key: str) -> Path:
         return self.root / "results" / task / f"{key}.nc"
 
@@ -96,16 +124,6 @@ class DirectoryStore:
     def failure_path(self, task: str, key: str) -> Path:
         return self.root / "failures" / task / f"{key}.json"
 
-    def slot_path(self, study: str, stage: str, label: str) -> Path:
-        return self.root / "slots" / study / stage / f"{slot_id(label)}.json"
-
-    def checkpoint_dir(self, key: str) -> Path:
-        return self.root / "checkpoints" / key
-
-    def progress_path(self, key: str) -> Path:
-        return self.root / "progress" / f"{key}.json"
-
-    # -- results --------------------------------------------------------------
     def manifest(self, task: str, key: str) -> Manifest | None:
         data = read_json(self.manifest_path(task, key))
         if not isinstance(data, dict):
@@ -152,6 +170,19 @@ class DirectoryStore:
         if content != m.content_hash:
             return "manifest content hash does not match the file's content (manifest altered)"
         return ""
+
+    def stored_at(self, key: str, task: str | None = None) -> float | None:
+        """When the valid result of ``key`` (of ``task``; of any task when None) was completed: its
+        manifest's modification time; None without a valid result."""
+        tasks = [task] if task is not None else [p.parent.name for p in
+                                                 _files(self.root / "results", f"*/{key}.nc")]
+        for t in tasks:
+            if self.check(t, key)[0] is not None:
+                try:
+                    return self.manifest_path(t, key).stat().st_mtime
+                except OSError:  # removed meanwhile
+                    return None
+        return None
 
     def write_result(self, task: str, key: str, ds: xr.Dataset, parts: dict, source_hash: str,
                      replace: bool = False) -> Manifest:
@@ -208,7 +239,13 @@ class DirectoryStore:
         self.manifest_path(task, key).unlink(missing_ok=True)
         self.result_path(task, key).unlink(missing_ok=True)
 
-    # -- failures, slots, progress ------------------------------------------------
+    def all_results(self):
+        """(task, key, path) of every result file (valid or not; a superseded one's key ends in
+        ``.superseded-<time>``)."""
+        for p in _files(self.root / "results", "*/*.nc"):
+            yield p.parent.name, p.stem, p
+
+    # -- failures ---------------------------------------------------------------
     def write_failure(self, task: str, key: str, record: dict) -> None:
         write_json_atomic(self.failure_path(task, key), record)
 
@@ -219,6 +256,34 @@ class DirectoryStore:
     def clear_failure(self, task: str, key: str) -> None:
         self.failure_path(task, key).unlink(missing_ok=True)
 
+    def all_failures(self):
+        """(task, key) of every failure record."""
+        for p in _files(self.root / "failures", "*/*.json"):
+            yield p.parent.name, p.stem
+
+
+class RunRecords:
+    """What runs leave in a store while they work: slots, progress, checkpoints, leases, live runs, locks."""
+
+    def __init__(self, root: Path):
+        self.root = root
+        #: one lease per key being computed (lease.py)
+        self.leases = LeaseTable(root / "leases")
+        #: one entry per live ``execute`` (so ``clean`` leaves alone what a running run writes)
+        self.runs = LeaseTable(root / "runs")
+        #: store-wide locks of destructive verbs (``clean``)
+        self.locks = LeaseTable(root / "locks")
+
+    def slot_path(self, study: str, stage: str, label: str) -> Path:
+        return self.root / "slots" / study / stage / f"{slot_id(label)}.json"
+
+    def checkpoint_dir(self, key: str) -> Path:
+        return self.root / "checkpoints" / key
+
+    def progress_path(self, key: str) -> Path:
+        return self.root / "progress" / f"{key}.json"
+
+    # -- slots ------------------------------------------------------------------
     def write_slot(self, study: str, stage: str, label: str, record: dict) -> None:
         write_json_atomic(self.slot_path(study, stage, label), record)
 
@@ -227,15 +292,13 @@ class DirectoryStore:
         return rec if isinstance(rec, dict) and isinstance(rec.get("parts", {}), dict) else None
 
     def slots(self):
-        """Every slot record of every study in the store."""
-        base = self.root / "slots"
-        if not base.exists():
-            return
-        for p in sorted(base.glob("*/*/*.json")):
+        """(path, record) of every slot record of every study in the store."""
+        for p in _files(self.root / "slots", "*/*/*.json"):
             rec = read_json(p)
             if isinstance(rec, dict):
                 yield p, rec
 
+    # -- progress ---------------------------------------------------------------
     def write_progress(self, key: str, record: dict) -> None:
         write_json_atomic(self.progress_path(key), record)
 
@@ -252,16 +315,39 @@ class DirectoryStore:
     def clear_progress(self, key: str) -> None:
         self.progress_path(key).unlink(missing_ok=True)
 
-    # -- housekeeping ---------------------------------------------------------------
-    def all_results(self):
-        """(task, key, path) of every result file (valid or not)."""
-        base = self.root / "results"
-        if not base.exists():
-            return
-        for p in sorted(base.glob("*/*.nc")):
-            yield p.parent.name, p.stem, p
+    def progress_keys(self) -> list[str]:
+        """The keys that have a progress record."""
+        return [p.stem for p in _files(self.root / "progress", "*.json")]
+
+    # -- checkpoints ------------------------------------------------------------
+    def checkpoints(self, key: str) -> Checkpoints:
+        """The checkpoint of ``key`` (whether one is saved or not)."""
+        return Checkpoints(self.checkpoint_dir(key))
+
+    def checkpoint_keys(self) -> list[str]:
+        """The keys that have a checkpoint folder."""
+        base = self.root / "checkpoints"
+        return [d.name for d in sorted(base.iterdir())] if base.exists() else []
+
+
+class DirectoryStore(ResultStore, RunRecords):
+    """Embedded, server-less store on a (possibly shared) directory: its results and its run records."""
+
+    def __init__(self, root: str | os.PathLike):
+        resolved = Path(root).resolve()
+        ResultStore.__init__(self, resolved)
+        RunRecords.__init__(self, resolved)
+
+    def create(self) -> None:
+        """Make the store's directory (a run does before it registers)."""
+        self.root.mkdir(parents=True, exist_ok=True)
+
+    def report_dir(self, name: str) -> Path:
+        """The folder of the reports called ``name`` (one per study file)."""
+        return self.root / "reports" / name
 
     def temporary_files(self):
+        """Every temporary file a writer left (atomic.py names them), in the whole store."""
         if not self.root.exists():
             return []
         return sorted(p for p in self.root.rglob(f".*{TMP_SUFFIX}"))

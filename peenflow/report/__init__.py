@@ -51,7 +51,7 @@ def report_dir(store, study_path: Path) -> Path:
     from peenflow.engine.canonical import digest
 
     resolved = Path(study_path).resolve()
-    return Path(store.root) / "reports" / f"{resolved.stem}-{digest(str(resolved), 8)}"
+    return store.report_dir(f"{resolved.stem}-{digest(str(resolved), 8)}")
 
 
 def write_reports(graph, store, study_path) -> list[Path]:

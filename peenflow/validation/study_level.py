@@ -96,9 +96,10 @@ def stage_results(study: Path, *stages: str):
     beside it)."""
     from peenflow.api import load_study_graph
     from peenflow.engine import DirectoryStore, stage_result
+    from peenflow.engine.store import default_root
 
     graph = load_study_graph(study)
-    store = DirectoryStore(study.parent / ".peenflow")
+    store = DirectoryStore(default_root(study))
     return [stage_result(graph, store, s) for s in stages]
 
 

@@ -44,7 +44,10 @@ def live_entries(directory: Path) -> list[Path]:
 
 
 def result_files(store: Path) -> dict[str, bytes]:
-    return {p.name: p.read_bytes() for p in sorted((store / "results").glob("*/*.nc"))}
+    """{file name: bytes} of every result file in the store at ``store``."""
+    from peenflow.engine import DirectoryStore
+
+    return {p.name: p.read_bytes() for _, _, p in DirectoryStore(store).all_results()}
 
 
 

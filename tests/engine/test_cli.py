@@ -18,9 +18,10 @@ def test_a_failing_point_is_recorded_and_does_not_stop_the_others(tmp_path):
     assert st["scale[factor=2]"] == "failed"
     assert st["total"] == "skipped" and st["counter"] == "computed"
     assert "not finished:" in proc.stdout and "factor 2 fails on purpose" in proc.stdout
-    failures = list((tmp_path / "s" / ".peenflow" / "failures" / "scale").glob("*.json"))
+    store = DirectoryStore(tmp_path / "s" / ".peenflow")
+    failures = [key for task, key in store.all_failures() if task == "scale"]
     assert len(failures) == 1
-    rec = json.loads(failures[0].read_text())
+    rec = store.failure("scale", failures[0])
     assert "RuntimeError: factor 2 fails on purpose" in rec["traceback"]
     status = peenflow("status", study, "--why").stdout
     assert "failed" in status and "last attempt failed: RuntimeError" in status
@@ -38,7 +39,8 @@ def test_rerun_recomputes_exactly_the_stage_and_its_downstream(tmp_path):
         "scale[factor=1]", "scale[factor=2]", "scale[factor=3]", "total"}
     assert st["source"] == "reused" and st["counter"] == "reused"
     # identical content: the old files were kept rather than replaced
-    assert not list((tmp_path / "s" / ".peenflow" / "results").glob("*/*superseded*"))
+    assert not [key for _, key, _ in DirectoryStore(tmp_path / "s" / ".peenflow").all_results()
+                if ".superseded-" in key]
 
 
 def test_until_runs_only_what_the_stage_needs_and_dry_run_computes_nothing(tmp_path):
@@ -74,13 +76,13 @@ def test_clean_removes_only_unreferenced_results(tmp_path):
     peenflow("run", study)
     write_toy(tmp_path / "s", n=4)
     peenflow("run", study)  # the n=5 results are now unreferenced
-    store = tmp_path / "s" / ".peenflow"
-    n_before = len(list(store.glob("results/*/*.nc")))
+    store = DirectoryStore(tmp_path / "s" / ".peenflow")
+    n_before = len(list(store.all_results()))
     dry = peenflow("clean", study, "--dry-run").stdout
     assert "would remove 10 item(s)" in dry  # 5 old results + their 5 manifests (counter unchanged)
-    assert len(list(store.glob("results/*/*.nc"))) == n_before
+    assert len(list(store.all_results())) == n_before
     peenflow("clean", study)
-    assert len(list(store.glob("results/*/*.nc"))) == n_before - 5
+    assert len(list(store.all_results())) == n_before - 5
     assert all(v == "reused" for v in statuses(peenflow("run", study).stdout).values())
 
 

@@ -10,6 +10,8 @@ import pytest
 import xarray as xr
 from engine_helpers import peenflow, write_toy
 
+from peenflow.engine import DirectoryStore
+
 
 def _free_port() -> int:
     with socket.socket() as s:
@@ -65,8 +67,8 @@ def test_distributed_run_matches_local_run(tmp_path, cluster):
     peenflow("run", local)
     proc = peenflow("run", dist, "--scheduler", cluster, timeout=180)
     assert "failed" not in proc.stdout.split("stage")[0]
-    lres = {p.name: p for p in (tmp_path / "local" / ".peenflow").glob("results/*/*.nc")}
-    dres = {p.name: p for p in (tmp_path / "dist" / ".peenflow").glob("results/*/*.nc")}
+    lres = {p.name: p for _, _, p in DirectoryStore(tmp_path / "local" / ".peenflow").all_results()}
+    dres = {p.name: p for _, _, p in DirectoryStore(tmp_path / "dist" / ".peenflow").all_results()}
     assert lres.keys() == dres.keys()  # same keys on the cluster as locally
     for name in lres:
         with xr.open_dataset(lres[name]) as a, xr.open_dataset(dres[name]) as b:
