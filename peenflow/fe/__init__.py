@@ -26,7 +26,8 @@ flight, Hertz/Johnson estimates), ``window`` (the active window: size,
 validity, viscous-spring faces, sponge), ``solver`` (the explicit loop over
 an active window), ``relaxation`` (global static / dynamic relaxation),
 ``multigrid`` (its preconditioner), ``box_stiffness`` (the element's
-stiffness on a box grid and its product: the multigrid's operator),
+stiffness on a box grid and its product: the multigrid's operator;
+``box_stiffness_reference`` the plain products the tests compare it against),
 ``records`` (the named per-shot record), ``state`` (checkpointable state), ``model`` (static arrays of a run,
 target), ``safety`` (status codes -> exceptions), ``impact`` (the driver:
 :class:`ImpactRun`'s steps and the :func:`run_impacts` loop).
