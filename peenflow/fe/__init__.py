@@ -41,9 +41,10 @@ from peenflow.fe.safety import KernelInstabilityError
 from peenflow.fe.shots import Shots, hertz, johnson_plastic
 from peenflow.fe.records import SHOT_RECORD_DTYPE, SHOT_RECORD_FIELDS, ShotRecord
 from peenflow.fe.state import KernelState
+from peenflow.fe.window import ViscousSpringFaces
 
 __all__ = [
     "run_impacts", "ImpactRun", "ShotRecord", "SHOT_RECORD_DTYPE", "Options", "ImpactRunResult", "Snapshot", "Target", "Material", "Shots",
     "BoxMesh", "box_mesh", "graded_axis", "graded_box", "symmetric_axis",
-    "KernelState", "SHOT_RECORD_FIELDS", "KernelInstabilityError", "hertz", "johnson_plastic",
+    "KernelState", "SHOT_RECORD_FIELDS", "KernelInstabilityError", "hertz", "johnson_plastic", "ViscousSpringFaces",
 ]

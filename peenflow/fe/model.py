@@ -15,7 +15,7 @@ import numpy as np
 
 from peenflow.fe import solver as S
 from peenflow.fe.boundary import TIED, node_fixity
-from peenflow.fe.johnson_cook import M_RATE_ON, Material
+from peenflow.fe.johnson_cook import BULK_LINEAR, BULK_QUADRATIC, M_RATE_ON, Material
 from peenflow.fe.mesh import BoxMesh
 from peenflow.fe.periodic import check_periodic_mesh, tie_masters
 from peenflow.fe.safety import check_status
@@ -77,7 +77,7 @@ class Model:
     """Static arrays of a run (built once; not part of the checkpointed state)."""
 
     def __init__(self, target: Target, material: Material, *, hourglass=0.05, hourglass_plastic_floor=0.1,
-                 bulk_linear=0.06, bulk_quadratic=1.5, hourglass_type="physical"):
+                 bulk_linear=BULK_LINEAR, bulk_quadratic=BULK_QUADRATIC, hourglass_type="physical"):
         mesh = target.mesh
         self.target = target
         self.mesh = mesh

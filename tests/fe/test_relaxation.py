@@ -31,7 +31,7 @@ def unrelaxed():
     mat = Material(**SAE1070)
     shots = Shots(centres=[[0, 0, -R - 1e-6], [60e-6, -40e-6, -R - 5e-6]], velocities=[[0, 0, 55.0], [5.0, 0, 40.0]],
                   radius=R, density=7800.0)
-    res = run_impacts(t, mat, shots, Options(final_relaxation=False, window_boundary="held"))
+    res = run_impacts(t, mat, shots, Options(final_relaxation=False))
     return t, mat, res.final_state, 0.5 * shots.mass * 55.0**2
 
 

@@ -79,7 +79,7 @@ def test_free_flight_costs_no_steps():
                                        ("hourglass_plastic_floor", 0.0), ("window_lateral", 0.0),
                                        ("rest_ke_fraction", 0.0), ("max_steps", 0), ("threads", 0),
                                        ("relax_cg_rtol", 1.5), ("runaway_fraction", -1.0),
-                                       ("window_boundary", "absorbing"), ("relax_method", "newton")])
+                                       ("window_faces", "viscous-spring"), ("relax_method", "newton")])
 def test_bad_option_is_refused_before_any_compute(key, value):
     with pytest.raises(ValueError, match=rf"Options\.{key} = "):
         Options(**{key: value})
