@@ -108,10 +108,8 @@ Each pass is compiled twice from one source, serial and ``parallel=True``
 Length: one element and its vectorised pass. About 110 lines are this
 docstring (the element's equations); the algebra helpers, which the
 per-element reference shares, are ``inline="always"`` pieces of the passes'
-loop bodies; and the row pass, one function per hourglass form
-(``_row_physical``, ``_row_stiffness``, ~100 lines each), built from the
-lane steps they share (gather, kinematics, plastic return, tractions,
-hourglass store, nodal forces, write-back) over one scratch layout whose
+loop bodies; and ``_row`` (~360 lines) computes both hourglass forms in one
+branch-free lane loop, blended by 0/1 weights, over one scratch layout whose
 offsets are defined here.
 """
 
@@ -451,359 +449,42 @@ def _corner_forces(w, o, l, ok, X, Y, Z, P, Q, R, S):
     w[_FHI + o + 9 * _NDS + l + 1] = c3 - u3 if ok else 0.0
 
 
-@jit(inline="always")
-def _lanes9(w, slot, l):
-    """The 9 lane values of slots ``slot .. slot + 8`` (lane ``l``)."""
-    return (w[_L0 + slot * BLOCK + l], w[_L0 + (slot + 1) * BLOCK + l], w[_L0 + (slot + 2) * BLOCK + l],
-            w[_L0 + (slot + 3) * BLOCK + l], w[_L0 + (slot + 4) * BLOCK + l], w[_L0 + (slot + 5) * BLOCK + l],
-            w[_L0 + (slot + 6) * BLOCK + l], w[_L0 + (slot + 7) * BLOCK + l], w[_L0 + (slot + 8) * BLOCK + l])
+@jit
+def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, out):
+    """Elements ``i0 <= i < i1`` of row ``(j, k)``; ``out`` (6,) accumulates
+    ``dt_min, status, dW_int, dW_plastic, dW_hourglass, dW_viscous``.
 
-
-@jit(inline="always")
-def _lanes12(w, slot, l):
-    """The 12 lane values of slots ``slot .. slot + 11`` (lane ``l``)."""
-    a0, a1, a2, a3, a4, a5, a6, a7, a8 = _lanes9(w, slot, l)
-    return (a0, a1, a2, a3, a4, a5, a6, a7, a8,
-            w[_L0 + (slot + 9) * BLOCK + l], w[_L0 + (slot + 10) * BLOCK + l], w[_L0 + (slot + 11) * BLOCK + l])
-
-
-@jit(inline="always")
-def _gather(w, x, v, stress, hg, vol0, n00, e0, nb, nnx, nnxy, hdt):
-    """Nodes (mid-step positions, velocities) of the block's 4 node rows and its elements' state into the
-    lane scratch; lanes past the row's end get translated copies of the last element."""
+    Per block of ``BLOCK`` elements: gather nodes and element state into the
+    lane scratch (scalar copies), two vectorised lane loops (kinematics and
+    trial stress; forces) around a scalar plastic return of the yielding
+    lanes only, then write back and scatter in a fixed order. Lanes past the
+    end of the row compute a copy of the last element and are discarded.
+    """
     B = BLOCK
-    for r in range(4):
-        nr = n00 + (r & 1) * nnx + (r >> 1) * nnxy
-        o = _ND + r * _RS
-        for m in range(nb + 1):
-            n = nr + m
-            vx = v[n, 0]
-            vy = v[n, 1]
-            vz = v[n, 2]
-            w[o + m] = x[n, 0] - hdt * vx
-            w[o + _NDS + m] = x[n, 1] - hdt * vy
-            w[o + 2 * _NDS + m] = x[n, 2] - hdt * vz
-            w[o + 3 * _NDS + m] = vx
-            w[o + 4 * _NDS + m] = vy
-            w[o + 5 * _NDS + m] = vz
-        if nb < B:  # pad: translated copies of the last element
-            for c in range(6):
-                oc = o + c * _NDS
-                step = w[oc + nb] - w[oc + nb - 1]
-                for m in range(nb + 1, B + 1):
-                    w[oc + m] = w[oc + m - 1] + step
-    for l in range(B):
-        e = e0 + min(l, nb - 1)
-        for c in range(6):
-            w[_L0 + (_OLD + c) * B + l] = stress[e, c]
-        for c in range(12):
-            w[_L0 + (_HG + c) * B + l] = hg[e, c]
-        w[_L0 + _VOL0 * B + l] = vol0[e]
-
-
-@jit(inline="always")
-def _kinematics(w, l, dt, lam, mu, mod, rho0, qlin, qquad, hgom):
-    """Pass 1 of lane ``l``, the same for both hourglass forms: geometry, rates, trial stress, stable step,
-    bulk viscosity, hourglass shape vectors and rates, into the scratch. Returns the covariant vectors
-    ``g_k`` (9, the physical form's frame), the volume and the dual basis ``g^k`` (9, the stiffness form's
-    coefficient)."""
-    B = BLOCK
+    nnxy = nnx * nny
+    hdt = 0.5 * dt
     r8 = 0.125
-    gx1, gx2, gx3, s1x, s2x, s3x, s4x = _corner_sums(w, _ND, l)
-    gy1, gy2, gy3, s1y, s2y, s3y, s4y = _corner_sums(w, _ND + _NDS, l)
-    gz1, gz2, gz3, s1z, s2z, s3z, s4z = _corner_sums(w, _ND + 2 * _NDS, l)
-    # V_k = 8 v_k (unscaled sums) and the hourglass velocity sums h_a
-    V1x, V2x, V3x, h1x, h2x, h3x, h4x = _corner_sums(w, _ND + 3 * _NDS, l)
-    V1y, V2y, V3y, h1y, h2y, h3y, h4y = _corner_sums(w, _ND + 4 * _NDS, l)
-    V1z, V2z, V3z, h1z, h2z, h3z, h4z = _corner_sums(w, _ND + 5 * _NDS, l)
-    g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z = _scaled9(r8, gx1, gy1, gz1, gx2, gy2, gz2, gx3, gy3, gz3)
-    v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z = _scaled9(r8, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
-    c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, det = _face_vectors(g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
-    vol = 8.0 * det
-    v0 = w[_L0 + _VOL0 * B + l]
-    ratio = vol / v0
-    stc = float(ST_OK)
-    stc = float(ST_DISTORTION) if (ratio < 0.1) | (ratio > 10.0) else stc
-    stc = stc if det > 0.0 else float(ST_NEGATIVE_VOLUME)
-    d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z = _scaled9(1.0 / det, c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z)
-    lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy = _rates(v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z,
-                                                         d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
-    t0, t1, t2, t3, t4, t5 = jaumann_trial(
-        w[_L0 + _OLD * B + l], w[_L0 + (_OLD + 1) * B + l], w[_L0 + (_OLD + 2) * B + l],
-        w[_L0 + (_OLD + 3) * B + l], w[_L0 + (_OLD + 4) * B + l], w[_L0 + (_OLD + 5) * B + l],
-        lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy, dt, lam, mu)
-    w[_L0 + _SN * B + l] = t0
-    w[_L0 + (_SN + 1) * B + l] = t1
-    w[_L0 + (_SN + 2) * B + l] = t2
-    w[_L0 + (_SN + 3) * B + l] = t3
-    w[_L0 + (_SN + 4) * B + l] = t4
-    w[_L0 + (_SN + 5) * B + l] = t5
-    w[_L0 + _QTR * B + l] = von_mises(t0, t1, t2, t3, t4, t5)
-    w[_L0 + _LM * B + l] = lxx
-    w[_L0 + (_LM + 1) * B + l] = lyy
-    w[_L0 + (_LM + 2) * B + l] = lzz
-    w[_L0 + (_LM + 3) * B + l] = dyz
-    w[_L0 + (_LM + 4) * B + l] = dxz
-    w[_L0 + (_LM + 5) * B + l] = dxy
-    w[_L0 + _STC * B + l] = stc
-    w[_L0 + _GR * B + l] = 1.0
-    w[_L0 + _VOL * B + l] = vol
-    w[_L0 + _DUAL * B + l] = d1x
-    w[_L0 + (_DUAL + 1) * B + l] = d1y
-    w[_L0 + (_DUAL + 2) * B + l] = d1z
-    w[_L0 + (_DUAL + 3) * B + l] = d2x
-    w[_L0 + (_DUAL + 4) * B + l] = d2y
-    w[_L0 + (_DUAL + 5) * B + l] = d2z
-    w[_L0 + (_DUAL + 6) * B + l] = d3x
-    w[_L0 + (_DUAL + 7) * B + l] = d3y
-    w[_L0 + (_DUAL + 8) * B + l] = d3z
-    # wave speed, characteristic length (V / largest face), bulk viscosity, stable step
-    amax = max(c1x * c1x + c1y * c1y + c1z * c1z, c2x * c2x + c2y * c2y + c2z * c2z)
-    amax = max(amax, c3x * c3x + c3y * c3y + c3z * c3z)
-    lch = 2.0 * det / math.sqrt(amax)
-    rho = rho0 * v0 / vol
-    c2 = mod / rho
-    cw = math.sqrt(c2)
-    ev = lxx + lyy + lzz
-    comp = ev < 0.0
-    qv = qlin * cw - qquad * lch * ev if comp else 0.0
-    qb = -rho * lch * qv * ev if comp else 0.0
-    w[_L0 + _QB * B + l] = qb
-    w[_L0 + _EWV * B + l] = -qb * ev * vol * dt
-    om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
-    w[_L0 + _DTE * B + l] = 2.0 / math.sqrt(om * om + hgom * c2 / (lch * lch))
-    # hourglass: w_ak = (s_a . g^k)/8, q_a = h_a - sum_k w_ak V_k
-    w11, w12, w13, w21, w22, w23, w31, w32, w33, w41, w42, w43 = _hourglass_shape(
-        s1x, s1y, s1z, s2x, s2y, s2z, s3x, s3y, s3z, s4x, s4y, s4z, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
-    w[_L0 + _WAK * B + l] = w11
-    w[_L0 + (_WAK + 1) * B + l] = w12
-    w[_L0 + (_WAK + 2) * B + l] = w13
-    w[_L0 + (_WAK + 3) * B + l] = w21
-    w[_L0 + (_WAK + 4) * B + l] = w22
-    w[_L0 + (_WAK + 5) * B + l] = w23
-    w[_L0 + (_WAK + 6) * B + l] = w31
-    w[_L0 + (_WAK + 7) * B + l] = w32
-    w[_L0 + (_WAK + 8) * B + l] = w33
-    w[_L0 + (_WAK + 9) * B + l] = w41
-    w[_L0 + (_WAK + 10) * B + l] = w42
-    w[_L0 + (_WAK + 11) * B + l] = w43
-    qa = (_mode_rate(h1x, h1y, h1z, w11, w12, w13, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
-          + _mode_rate(h2x, h2y, h2z, w21, w22, w23, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
-          + _mode_rate(h3x, h3y, h3z, w31, w32, w33, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
-          + _mode_rate(h4x, h4y, h4z, w41, w42, w43, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z))
-    for c in range(12):
-        w[_L0 + (_QA + c) * B + l] = qa[c]
-    return g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z, vol, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z
-
-
-@jit(inline="always")
-def _plastic_return(w, e0, nb, dt, eps_p, temp, sy_static, mat, out):
-    """Scalar plastic return of the yielding lanes of the block (``out[3]`` += plastic work)."""
-    B = BLOCK
-    for l in range(nb):
-        e = e0 + l
-        q = w[_L0 + _QTR * B + l]
-        if q > sy_static[e] and w[_L0 + _STC * B + l] == 0.0:
-            o = _L0 + _SN * B + l
-            ol = _L0 + _LM * B + l
-            n0_, n1_, n2_, n3_, n4_, n5_, deps, sy, gr, sy_new = plastic_correction(
-                w[o], w[o + B], w[o + 2 * B], w[o + 3 * B], w[o + 4 * B], w[o + 5 * B], q,
-                w[ol], w[ol + B], w[ol + 2 * B], w[ol + 3 * B], w[ol + 4 * B], w[ol + 5 * B],
-                dt, eps_p[e], temp[e], mat)
-            w[o] = n0_
-            w[o + B] = n1_
-            w[o + 2 * B] = n2_
-            w[o + 3 * B] = n3_
-            w[o + 4 * B] = n4_
-            w[o + 5 * B] = n5_
-            w[_L0 + _GR * B + l] = gr
-            if deps > 0.0:
-                ep = eps_p[e] + deps
-                eps_p[e] = ep
-                out[3] += sy * deps * w[_L0 + _VOL * B + l]
-                if mat[M_ADIABATIC] != 0.0:
-                    temp[e] += mat[M_HEAT] * sy * deps
-                    sy_new = static_flow_stress(ep, thermal_factor(temp[e], mat), mat)
-                sy_static[e] = sy_new
-
-
-@jit(inline="always")
-def _tractions_lane(w, l, dt):
-    """Pass 2 of lane ``l``, first part: stress power (into the scratch) and the tractions
-    ``t_k = V (sigma - q I) g^k / 8`` (9)."""
-    B = BLOCK
-    vol = w[_L0 + _VOL * B + l]
-    qb = w[_L0 + _QB * B + l]
-    n0_, n1_, n2_, n3_, n4_, n5_ = (w[_L0 + _SN * B + l], w[_L0 + (_SN + 1) * B + l], w[_L0 + (_SN + 2) * B + l],
-                                    w[_L0 + (_SN + 3) * B + l], w[_L0 + (_SN + 4) * B + l],
-                                    w[_L0 + (_SN + 5) * B + l])
-    w[_L0 + _EWI * B + l] = 0.5 * dt * vol * (
-        (w[_L0 + _OLD * B + l] + n0_) * w[_L0 + _LM * B + l]
-        + (w[_L0 + (_OLD + 1) * B + l] + n1_) * w[_L0 + (_LM + 1) * B + l]
-        + (w[_L0 + (_OLD + 2) * B + l] + n2_) * w[_L0 + (_LM + 2) * B + l]
-        + 2.0 * ((w[_L0 + (_OLD + 3) * B + l] + n3_) * w[_L0 + (_LM + 3) * B + l]
-                 + (w[_L0 + (_OLD + 4) * B + l] + n4_) * w[_L0 + (_LM + 4) * B + l]
-                 + (w[_L0 + (_OLD + 5) * B + l] + n5_) * w[_L0 + (_LM + 5) * B + l]))
-    d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z = _lanes9(w, _DUAL, l)
-    return _tractions(n0_, n1_, n2_, n3_, n4_, n5_, qb, vol, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
-
-
-@jit(inline="always")
-def _store_hourglass(w, l, dt, o, fa, q):
-    """The new hourglass forces ``fa`` (12-tuple ``F_a``, frame of the rates ``q``) into the scratch, and their
-    work over the step (trapezoidal, from the old forces ``o``). Tuples: a call of more than 30 arguments
-    would not inline."""
-    B = BLOCK
-    o0, o1, o2, o3, o4, o5, o6, o7, o8, o9, o10, o11 = o
-    f1x, f1y, f1z, f2x, f2y, f2z, f3x, f3y, f3z, f4x, f4y, f4z = fa
-    q1x, q1y, q1z, q2x, q2y, q2z, q3x, q3y, q3z, q4x, q4y, q4z = q
-    w[_L0 + _EWH * B + l] = 0.5 * dt * ((o0 + f1x) * q1x + (o1 + f1y) * q1y + (o2 + f1z) * q1z
-                                        + (o3 + f2x) * q2x + (o4 + f2y) * q2y + (o5 + f2z) * q2z
-                                        + (o6 + f3x) * q3x + (o7 + f3y) * q3y + (o8 + f3z) * q3z
-                                        + (o9 + f4x) * q4x + (o10 + f4y) * q4y + (o11 + f4z) * q4z)
-    w[_L0 + _HG * B + l] = f1x
-    w[_L0 + (_HG + 1) * B + l] = f1y
-    w[_L0 + (_HG + 2) * B + l] = f1z
-    w[_L0 + (_HG + 3) * B + l] = f2x
-    w[_L0 + (_HG + 4) * B + l] = f2y
-    w[_L0 + (_HG + 5) * B + l] = f2z
-    w[_L0 + (_HG + 6) * B + l] = f3x
-    w[_L0 + (_HG + 7) * B + l] = f3y
-    w[_L0 + (_HG + 8) * B + l] = f3z
-    w[_L0 + (_HG + 9) * B + l] = f4x
-    w[_L0 + (_HG + 10) * B + l] = f4y
-    w[_L0 + (_HG + 11) * B + l] = f4z
-
-
-@jit(inline="always")
-def _node_forces_lane(w, l, ok, t1x, t1y, t1z, t2x, t2y, t2z, t3x, t3y, t3z,
-                      f1x, f1y, f1z, f2x, f2y, f2z, f3x, f3y, f3z, f4x, f4y, f4z):
-    """Nodal forces of lane ``l`` into the force scratch: ``-(sum_k t_k grad-sign_k + sum_a F_a gamma_a)``
-    with ``gamma_a = H_a - sum_k w_ak xi_k`` (``F_a`` global); the xi_k parts collected first."""
-    w11, w12, w13, w21, w22, w23, w31, w32, w33, w41, w42, w43 = _lanes12(w, _WAK, l)
-    _corner_forces(w, 0, l, ok,
-                   t1x - (w11 * f1x + w21 * f2x + w31 * f3x + w41 * f4x),
-                   t2x - (w12 * f1x + w22 * f2x + w32 * f3x + w42 * f4x),
-                   t3x - (w13 * f1x + w23 * f2x + w33 * f3x + w43 * f4x), f1x, f2x, f3x, f4x)
-    _corner_forces(w, _NDS, l, ok,
-                   t1y - (w11 * f1y + w21 * f2y + w31 * f3y + w41 * f4y),
-                   t2y - (w12 * f1y + w22 * f2y + w32 * f3y + w42 * f4y),
-                   t3y - (w13 * f1y + w23 * f2y + w33 * f3y + w43 * f4y), f1y, f2y, f3y, f4y)
-    _corner_forces(w, 2 * _NDS, l, ok,
-                   t1z - (w11 * f1z + w21 * f2z + w31 * f3z + w41 * f4z),
-                   t2z - (w12 * f1z + w22 * f2z + w32 * f3z + w42 * f4z),
-                   t3z - (w13 * f1z + w23 * f2z + w33 * f3z + w43 * f4z), f1z, f2z, f3z, f4z)
-
-
-@jit(inline="always")
-def _write_back(w, e0, nb, n00, nnx, nnxy, f, stress, hg, out):
-    """Stress and hourglass forces of the block's valid lanes back to the element arrays, the reductions in
-    lane order (``out``: min step, max status, works), and the nodal forces scattered in node order."""
-    B = BLOCK
-    for l in range(nb):
-        e = e0 + l
-        st = w[_L0 + _STC * B + l]
-        if st != 0.0:
-            out[1] = max(out[1], st)
-            continue
-        for c in range(6):
-            stress[e, c] = w[_L0 + (_SN + c) * B + l]
-        for c in range(12):
-            hg[e, c] = w[_L0 + (_HG + c) * B + l]
-        out[0] = min(out[0], w[_L0 + _DTE * B + l])
-        out[2] += w[_L0 + _EWI * B + l]
-        out[4] += w[_L0 + _EWH * B + l]
-        out[5] += w[_L0 + _EWV * B + l]
-    for r in range(4):
-        nr = n00 + (r & 1) * nnx + (r >> 1) * nnxy
-        o = r * 3 * _NDS
-        for m in range(nb + 1):
-            n = nr + m
-            f[n, 0] += w[_FLO + o + m] + w[_FHI + o + m]
-            f[n, 1] += w[_FLO + o + _NDS + m] + w[_FHI + o + _NDS + m]
-            f[n, 2] += w[_FLO + o + 2 * _NDS + m] + w[_FHI + o + 2 * _NDS + m]
-
-
-@jit(inline="always")
-def _scratch():
-    """The lane scratch of a row; every slot is written before it is read (checked by filling it with NaN),
-    except the force slots FLO[B] and FHI[0] zeroed here: no memset per row."""
-    B = BLOCK
+    # every slot is written before it is read (checked by filling it with NaN),
+    # except the force slots FLO[B] and FHI[0] zeroed here: no memset per row
     w = np.empty(_NSCR)
     for c in range(12):  # node m = B has no low corner, node 0 of the block no high corner in it
         w[_FLO + c * _NDS + B] = 0.0
         w[_FHI + c * _NDS] = 0.0
-    return w
-
-
-@jit
-def _row_stiffness(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt,
-                   out):
-    """:func:`_row` for the stiffness hourglass form: ``F_a += k_hg q_a dt``, ``k_hg`` following the
-    element's deviatoric tangent (not below the floor ``M_HG_FLOOR``), forces in global axes."""
-    B = BLOCK
-    nnxy = nnx * nny
-    w = _scratch()
     mod = mat[M_LAM] + 2.0 * mat[M_MU]
     lam = mat[M_LAM]
     mu = mat[M_MU]
+    rho0 = mat[M_RHO]
+    qlin = mat[M_BULK_LIN]
+    qquad = mat[M_BULK_QUAD]
+    qhg = mat[M_HG]
     hgfloor = mat[M_HG_FLOOR]
-    khgc = mat[M_HG] * mod
+    khgc = qhg * mod
     hgom = hourglass_omega2_factor(mat)
-    ebase = nx * (j + ny * k)
-    nbase = nnx * (j + nny * k)
-    for ib in range(i0, i1, B):
-        nb = min(B, i1 - ib)
-        e0 = ebase + ib
-        n00 = nbase + ib
-        _gather(w, x, v, stress, hg, vol0, n00, e0, nb, nnx, nnxy, 0.5 * dt)
-        for l in range(B):  # pass 1 (vectorised)
-            (g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z, vol, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y,
-             d3z) = _kinematics(w, l, dt, lam, mu, mod, mat[M_RHO], mat[M_BULK_LIN], mat[M_BULK_QUAD], hgom)
-            gsum = (d1x * d1x + d1y * d1y + d1z * d1z + d2x * d2x + d2y * d2y + d2z * d2z
-                    + d3x * d3x + d3y * d3y + d3z * d3z)
-            w[_L0 + _KHG * B + l] = khgc * vol * gsum / 24.0 * dt
-        if dt > 0.0:
-            _plastic_return(w, e0, nb, dt, eps_p, temp, sy_static, mat, out)
-        for l in range(B):  # pass 2 (vectorised)
-            ok = (l < nb) & (w[_L0 + _STC * B + l] == 0.0)
-            t1x, t1y, t1z, t2x, t2y, t2z, t3x, t3y, t3z = _tractions_lane(w, l, dt)
-            khg = w[_L0 + _KHG * B + l] * max(w[_L0 + _GR * B + l], hgfloor)
-            o0, o1, o2, o3, o4, o5, o6, o7, o8, o9, o10, o11 = _lanes12(w, _HG, l)
-            q1x, q1y, q1z, q2x, q2y, q2z, q3x, q3y, q3z, q4x, q4y, q4z = _lanes12(w, _QA, l)
-            f1x = o0 + khg * q1x
-            f1y = o1 + khg * q1y
-            f1z = o2 + khg * q1z
-            f2x = o3 + khg * q2x
-            f2y = o4 + khg * q2y
-            f2z = o5 + khg * q2z
-            f3x = o6 + khg * q3x
-            f3y = o7 + khg * q3y
-            f3z = o8 + khg * q3z
-            f4x = o9 + khg * q4x
-            f4y = o10 + khg * q4y
-            f4z = o11 + khg * q4z
-            _store_hourglass(w, l, dt, (o0, o1, o2, o3, o4, o5, o6, o7, o8, o9, o10, o11),
-                             (f1x, f1y, f1z, f2x, f2y, f2z, f3x, f3y, f3z, f4x, f4y, f4z),
-                             (q1x, q1y, q1z, q2x, q2y, q2z, q3x, q3y, q3z, q4x, q4y, q4z))
-            _node_forces_lane(w, l, ok, t1x, t1y, t1z, t2x, t2y, t2z, t3x, t3y, t3z,
-                              f1x, f1y, f1z, f2x, f2y, f2z, f3x, f3y, f3z, f4x, f4y, f4z)
-        _write_back(w, e0, nb, n00, nnx, nnxy, f, stress, hg, out)
-
-
-@jit
-def _row_physical(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt,
-                  out):
-    """:func:`_row` for the physical hourglass form: rates to the co-rotational element frame, force
-    increments from the assumed-strain stiffness at the tangent shear modulus
-    (:func:`_physical_increments`), forces kept in the frame and turned global for the nodes."""
-    B = BLOCK
-    nnxy = nnx * nny
-    w = _scratch()
-    mod = mat[M_LAM] + 2.0 * mat[M_MU]
-    lam = mat[M_LAM]
-    mu = mat[M_MU]
-    hgom = hourglass_omega2_factor(mat)
+    # hourglass form as 0/1 weights (loop invariant; the lane loops blend
+    # instead of branching, and with weight 0 the other form's terms add
+    # exact zeros, so the stiffness form is bit-identical to its old code)
+    wph = 1.0 if mat[M_HG_TYPE] == HG_PHYSICAL else 0.0
+    wfb = 1.0 - wph
     bulk = lam + 2.0 * mu / 3.0
     ebase = nx * (j + ny * k)
     nbase = nnx * (j + nny * k)
@@ -811,34 +492,235 @@ def _row_physical(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_sta
         nb = min(B, i1 - ib)
         e0 = ebase + ib
         n00 = nbase + ib
-        _gather(w, x, v, stress, hg, vol0, n00, e0, nb, nnx, nnxy, 0.5 * dt)
-        for l in range(B):  # pass 1 (vectorised)
-            (g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z, vol, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y,
-             d3z) = _kinematics(w, l, dt, lam, mu, mod, mat[M_RHO], mat[M_BULK_LIN], mat[M_BULK_QUAD], hgom)
+        # ---- gather nodes (mid-step positions, velocities) of the 4 node rows
+        for r in range(4):
+            nr = n00 + (r & 1) * nnx + (r >> 1) * nnxy
+            o = _ND + r * _RS
+            for m in range(nb + 1):
+                n = nr + m
+                vx = v[n, 0]
+                vy = v[n, 1]
+                vz = v[n, 2]
+                w[o + m] = x[n, 0] - hdt * vx
+                w[o + _NDS + m] = x[n, 1] - hdt * vy
+                w[o + 2 * _NDS + m] = x[n, 2] - hdt * vz
+                w[o + 3 * _NDS + m] = vx
+                w[o + 4 * _NDS + m] = vy
+                w[o + 5 * _NDS + m] = vz
+            if nb < B:  # pad: translated copies of the last element
+                for c in range(6):
+                    oc = o + c * _NDS
+                    step = w[oc + nb] - w[oc + nb - 1]
+                    for m in range(nb + 1, B + 1):
+                        w[oc + m] = w[oc + m - 1] + step
+        # ---- gather element state
+        for l in range(B):
+            e = e0 + min(l, nb - 1)
+            for c in range(6):
+                w[_L0 + (_OLD + c) * B + l] = stress[e, c]
+            for c in range(12):
+                w[_L0 + (_HG + c) * B + l] = hg[e, c]
+            w[_L0 + _VOL0 * B + l] = vol0[e]
+        # ---- pass 1 (vectorised): geometry, rates, trial stress, step, viscosity, hourglass kinematics
+        for l in range(B):
+            gx1, gx2, gx3, s1x, s2x, s3x, s4x = _corner_sums(w, _ND, l)
+            gy1, gy2, gy3, s1y, s2y, s3y, s4y = _corner_sums(w, _ND + _NDS, l)
+            gz1, gz2, gz3, s1z, s2z, s3z, s4z = _corner_sums(w, _ND + 2 * _NDS, l)
+            # V_k = 8 v_k (unscaled sums) and the hourglass velocity sums h_a
+            V1x, V2x, V3x, h1x, h2x, h3x, h4x = _corner_sums(w, _ND + 3 * _NDS, l)
+            V1y, V2y, V3y, h1y, h2y, h3y, h4y = _corner_sums(w, _ND + 4 * _NDS, l)
+            V1z, V2z, V3z, h1z, h2z, h3z, h4z = _corner_sums(w, _ND + 5 * _NDS, l)
+            g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z = _scaled9(r8, gx1, gy1, gz1, gx2, gy2, gz2, gx3, gy3, gz3)
+            v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z = _scaled9(r8, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+            c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z, det = _face_vectors(g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
+            vol = 8.0 * det
+            v0 = w[_L0 + _VOL0 * B + l]
+            ratio = vol / v0
+            stc = float(ST_OK)
+            stc = float(ST_DISTORTION) if (ratio < 0.1) | (ratio > 10.0) else stc
+            stc = stc if det > 0.0 else float(ST_NEGATIVE_VOLUME)
+            d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z = _scaled9(1.0 / det, c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z)
+            lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy = _rates(v1x, v1y, v1z, v2x, v2y, v2z, v3x, v3y, v3z,
+                                                                 d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
+            t0, t1, t2, t3, t4, t5 = jaumann_trial(
+                w[_L0 + _OLD * B + l], w[_L0 + (_OLD + 1) * B + l], w[_L0 + (_OLD + 2) * B + l],
+                w[_L0 + (_OLD + 3) * B + l], w[_L0 + (_OLD + 4) * B + l], w[_L0 + (_OLD + 5) * B + l],
+                lxx, lyy, lzz, dyz, dxz, dxy, wyz, wxz, wxy, dt, lam, mu)
+            w[_L0 + _SN * B + l] = t0
+            w[_L0 + (_SN + 1) * B + l] = t1
+            w[_L0 + (_SN + 2) * B + l] = t2
+            w[_L0 + (_SN + 3) * B + l] = t3
+            w[_L0 + (_SN + 4) * B + l] = t4
+            w[_L0 + (_SN + 5) * B + l] = t5
+            w[_L0 + _QTR * B + l] = von_mises(t0, t1, t2, t3, t4, t5)
+            w[_L0 + _LM * B + l] = lxx
+            w[_L0 + (_LM + 1) * B + l] = lyy
+            w[_L0 + (_LM + 2) * B + l] = lzz
+            w[_L0 + (_LM + 3) * B + l] = dyz
+            w[_L0 + (_LM + 4) * B + l] = dxz
+            w[_L0 + (_LM + 5) * B + l] = dxy
+            w[_L0 + _STC * B + l] = stc
+            w[_L0 + _GR * B + l] = 1.0
+            w[_L0 + _VOL * B + l] = vol
+            w[_L0 + _DUAL * B + l] = d1x
+            w[_L0 + (_DUAL + 1) * B + l] = d1y
+            w[_L0 + (_DUAL + 2) * B + l] = d1z
+            w[_L0 + (_DUAL + 3) * B + l] = d2x
+            w[_L0 + (_DUAL + 4) * B + l] = d2y
+            w[_L0 + (_DUAL + 5) * B + l] = d2z
+            w[_L0 + (_DUAL + 6) * B + l] = d3x
+            w[_L0 + (_DUAL + 7) * B + l] = d3y
+            w[_L0 + (_DUAL + 8) * B + l] = d3z
+            # wave speed, characteristic length (V / largest face), bulk viscosity, stable step
+            amax = max(c1x * c1x + c1y * c1y + c1z * c1z, c2x * c2x + c2y * c2y + c2z * c2z)
+            amax = max(amax, c3x * c3x + c3y * c3y + c3z * c3z)
+            lch = 2.0 * det / math.sqrt(amax)
+            rho = rho0 * v0 / vol
+            c2 = mod / rho
+            cw = math.sqrt(c2)
+            ev = lxx + lyy + lzz
+            comp = ev < 0.0
+            qv = qlin * cw - qquad * lch * ev if comp else 0.0
+            qb = -rho * lch * qv * ev if comp else 0.0
+            w[_L0 + _QB * B + l] = qb
+            w[_L0 + _EWV * B + l] = -qb * ev * vol * dt
+            om = 2.0 * (qv + math.sqrt(qv * qv + c2)) / lch
+            w[_L0 + _DTE * B + l] = 2.0 / math.sqrt(om * om + hgom * c2 / (lch * lch))
+            # element frame (physical hourglass) blended with the identity (stiffness form)
             e11, e12, e13, e21, e22, e23, e31, e32, e33, b1, b2, b3 = _element_frame(
                 g1x, g1y, g1z, g2x, g2y, g2z, g3x, g3y, g3z)
-            w[_L0 + _FRM * B + l] = e11
-            w[_L0 + (_FRM + 1) * B + l] = e12
-            w[_L0 + (_FRM + 2) * B + l] = e13
-            w[_L0 + (_FRM + 3) * B + l] = e21
-            w[_L0 + (_FRM + 4) * B + l] = e22
-            w[_L0 + (_FRM + 5) * B + l] = e23
-            w[_L0 + (_FRM + 6) * B + l] = e31
-            w[_L0 + (_FRM + 7) * B + l] = e32
-            w[_L0 + (_FRM + 8) * B + l] = e33
+            w[_L0 + _FRM * B + l] = wph * e11 + wfb
+            w[_L0 + (_FRM + 1) * B + l] = wph * e12
+            w[_L0 + (_FRM + 2) * B + l] = wph * e13
+            w[_L0 + (_FRM + 3) * B + l] = wph * e21
+            w[_L0 + (_FRM + 4) * B + l] = wph * e22 + wfb
+            w[_L0 + (_FRM + 5) * B + l] = wph * e23
+            w[_L0 + (_FRM + 6) * B + l] = wph * e31
+            w[_L0 + (_FRM + 7) * B + l] = wph * e32
+            w[_L0 + (_FRM + 8) * B + l] = wph * e33 + wfb
             w[_L0 + _BK * B + l] = b1
             w[_L0 + (_BK + 1) * B + l] = b2
             w[_L0 + (_BK + 2) * B + l] = b3
+            # hourglass: w_ak = (s_a . g^k)/8, q_a = h_a - sum_k w_ak V_k
+            w11, w12, w13, w21, w22, w23, w31, w32, w33, w41, w42, w43 = _hourglass_shape(
+                s1x, s1y, s1z, s2x, s2y, s2z, s3x, s3y, s3z, s4x, s4y, s4z, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
+            w[_L0 + _WAK * B + l] = w11
+            w[_L0 + (_WAK + 1) * B + l] = w12
+            w[_L0 + (_WAK + 2) * B + l] = w13
+            w[_L0 + (_WAK + 3) * B + l] = w21
+            w[_L0 + (_WAK + 4) * B + l] = w22
+            w[_L0 + (_WAK + 5) * B + l] = w23
+            w[_L0 + (_WAK + 6) * B + l] = w31
+            w[_L0 + (_WAK + 7) * B + l] = w32
+            w[_L0 + (_WAK + 8) * B + l] = w33
+            w[_L0 + (_WAK + 9) * B + l] = w41
+            w[_L0 + (_WAK + 10) * B + l] = w42
+            w[_L0 + (_WAK + 11) * B + l] = w43
+            qa = (_mode_rate(h1x, h1y, h1z, w11, w12, w13, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+                  + _mode_rate(h2x, h2y, h2z, w21, w22, w23, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+                  + _mode_rate(h3x, h3y, h3z, w31, w32, w33, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z)
+                  + _mode_rate(h4x, h4y, h4z, w41, w42, w43, V1x, V1y, V1z, V2x, V2y, V2z, V3x, V3y, V3z))
+            for c in range(12):
+                w[_L0 + (_QA + c) * B + l] = qa[c]
+            gsum = (d1x * d1x + d1y * d1y + d1z * d1z + d2x * d2x + d2y * d2y + d2z * d2z
+                    + d3x * d3x + d3y * d3y + d3z * d3z)
+            w[_L0 + _KHG * B + l] = khgc * vol * gsum / 24.0 * dt
+        # ---- plastic return (scalar, yielding lanes only)
         if dt > 0.0:
-            _plastic_return(w, e0, nb, dt, eps_p, temp, sy_static, mat, out)
-        for l in range(B):  # pass 2 (vectorised)
+            for l in range(nb):
+                e = e0 + l
+                q = w[_L0 + _QTR * B + l]
+                if q > sy_static[e] and w[_L0 + _STC * B + l] == 0.0:
+                    o = _L0 + _SN * B + l
+                    ol = _L0 + _LM * B + l
+                    n0_, n1_, n2_, n3_, n4_, n5_, deps, sy, gr, sy_new = plastic_correction(
+                        w[o], w[o + B], w[o + 2 * B], w[o + 3 * B], w[o + 4 * B], w[o + 5 * B], q,
+                        w[ol], w[ol + B], w[ol + 2 * B], w[ol + 3 * B], w[ol + 4 * B], w[ol + 5 * B],
+                        dt, eps_p[e], temp[e], mat)
+                    w[o] = n0_
+                    w[o + B] = n1_
+                    w[o + 2 * B] = n2_
+                    w[o + 3 * B] = n3_
+                    w[o + 4 * B] = n4_
+                    w[o + 5 * B] = n5_
+                    w[_L0 + _GR * B + l] = gr
+                    if deps > 0.0:
+                        ep = eps_p[e] + deps
+                        eps_p[e] = ep
+                        out[3] += sy * deps * w[_L0 + _VOL * B + l]
+                        if mat[M_ADIABATIC] != 0.0:
+                            temp[e] += mat[M_HEAT] * sy * deps
+                            sy_new = static_flow_stress(ep, thermal_factor(temp[e], mat), mat)
+                        sy_static[e] = sy_new
+        # ---- pass 2 (vectorised): stress power, nodal forces, hourglass forces
+        for l in range(B):
             ok = (l < nb) & (w[_L0 + _STC * B + l] == 0.0)
             vol = w[_L0 + _VOL * B + l]
-            t1x, t1y, t1z, t2x, t2y, t2z, t3x, t3y, t3z = _tractions_lane(w, l, dt)
+            qb = w[_L0 + _QB * B + l]
+            n0_ = w[_L0 + _SN * B + l]
+            n1_ = w[_L0 + (_SN + 1) * B + l]
+            n2_ = w[_L0 + (_SN + 2) * B + l]
+            n3_ = w[_L0 + (_SN + 3) * B + l]
+            n4_ = w[_L0 + (_SN + 4) * B + l]
+            n5_ = w[_L0 + (_SN + 5) * B + l]
+            w[_L0 + _EWI * B + l] = 0.5 * dt * vol * (
+                (w[_L0 + _OLD * B + l] + n0_) * w[_L0 + _LM * B + l]
+                + (w[_L0 + (_OLD + 1) * B + l] + n1_) * w[_L0 + (_LM + 1) * B + l]
+                + (w[_L0 + (_OLD + 2) * B + l] + n2_) * w[_L0 + (_LM + 2) * B + l]
+                + 2.0 * ((w[_L0 + (_OLD + 3) * B + l] + n3_) * w[_L0 + (_LM + 3) * B + l]
+                         + (w[_L0 + (_OLD + 4) * B + l] + n4_) * w[_L0 + (_LM + 4) * B + l]
+                         + (w[_L0 + (_OLD + 5) * B + l] + n5_) * w[_L0 + (_LM + 5) * B + l]))
+            d1x = w[_L0 + _DUAL * B + l]
+            d1y = w[_L0 + (_DUAL + 1) * B + l]
+            d1z = w[_L0 + (_DUAL + 2) * B + l]
+            d2x = w[_L0 + (_DUAL + 3) * B + l]
+            d2y = w[_L0 + (_DUAL + 4) * B + l]
+            d2z = w[_L0 + (_DUAL + 5) * B + l]
+            d3x = w[_L0 + (_DUAL + 6) * B + l]
+            d3y = w[_L0 + (_DUAL + 7) * B + l]
+            d3z = w[_L0 + (_DUAL + 8) * B + l]
+            # t_k = V (sigma - q I) g^k / 8
+            t1x, t1y, t1z, t2x, t2y, t2z, t3x, t3y, t3z = _tractions(
+                n0_, n1_, n2_, n3_, n4_, n5_, qb, vol, d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z)
+            # hourglass forces. Stiffness form: F_a += k_hg q_a dt, k_hg following the
+            # element's deviatoric tangent (not below the floor). Physical form:
+            # rates to the element frame, increments from the assumed-strain
+            # stiffness at the tangent shear modulus, forces kept in the frame.
             gr = w[_L0 + _GR * B + l]
-            r11, r12, r13, r21, r22, r23, r31, r32, r33 = _lanes9(w, _FRM, l)
-            o0, o1, o2, o3, o4, o5, o6, o7, o8, o9, o10, o11 = _lanes12(w, _HG, l)
-            g1x_, g1y_, g1z_, g2x_, g2y_, g2z_, g3x_, g3y_, g3z_, g4x_, g4y_, g4z_ = _lanes12(w, _QA, l)
+            khg = w[_L0 + _KHG * B + l] * max(gr, hgfloor) * wfb
+            r11 = w[_L0 + _FRM * B + l]
+            r12 = w[_L0 + (_FRM + 1) * B + l]
+            r13 = w[_L0 + (_FRM + 2) * B + l]
+            r21 = w[_L0 + (_FRM + 3) * B + l]
+            r22 = w[_L0 + (_FRM + 4) * B + l]
+            r23 = w[_L0 + (_FRM + 5) * B + l]
+            r31 = w[_L0 + (_FRM + 6) * B + l]
+            r32 = w[_L0 + (_FRM + 7) * B + l]
+            r33 = w[_L0 + (_FRM + 8) * B + l]
+            o0 = w[_L0 + _HG * B + l]
+            o1 = w[_L0 + (_HG + 1) * B + l]
+            o2 = w[_L0 + (_HG + 2) * B + l]
+            o3 = w[_L0 + (_HG + 3) * B + l]
+            o4 = w[_L0 + (_HG + 4) * B + l]
+            o5 = w[_L0 + (_HG + 5) * B + l]
+            o6 = w[_L0 + (_HG + 6) * B + l]
+            o7 = w[_L0 + (_HG + 7) * B + l]
+            o8 = w[_L0 + (_HG + 8) * B + l]
+            o9 = w[_L0 + (_HG + 9) * B + l]
+            o10 = w[_L0 + (_HG + 10) * B + l]
+            o11 = w[_L0 + (_HG + 11) * B + l]
+            g1x_ = w[_L0 + _QA * B + l]
+            g1y_ = w[_L0 + (_QA + 1) * B + l]
+            g1z_ = w[_L0 + (_QA + 2) * B + l]
+            g2x_ = w[_L0 + (_QA + 3) * B + l]
+            g2y_ = w[_L0 + (_QA + 4) * B + l]
+            g2z_ = w[_L0 + (_QA + 5) * B + l]
+            g3x_ = w[_L0 + (_QA + 6) * B + l]
+            g3y_ = w[_L0 + (_QA + 7) * B + l]
+            g3z_ = w[_L0 + (_QA + 8) * B + l]
+            g4x_ = w[_L0 + (_QA + 9) * B + l]
+            g4y_ = w[_L0 + (_QA + 10) * B + l]
+            g4z_ = w[_L0 + (_QA + 11) * B + l]
             q1x, q1y, q1z = _rotate(r11, r12, r13, r21, r22, r23, r31, r32, r33, g1x_, g1y_, g1z_)
             q2x, q2y, q2z = _rotate(r11, r12, r13, r21, r22, r23, r31, r32, r33, g2x_, g2y_, g2z_)
             q3x, q3y, q3z = _rotate(r11, r12, r13, r21, r22, r23, r31, r32, r33, g3x_, g3y_, g3z_)
@@ -846,50 +728,89 @@ def _row_physical(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_sta
             k1x, k1y, k1z, k2x, k2y, k2z, k3x, k3y, k3z, k4x, k4y, k4z = _physical_increments(
                 q1x, q1y, q1z, q2x, q2y, q2z, q3x, q3y, q3z, q4x, q4y, q4z,
                 w[_L0 + _BK * B + l], w[_L0 + (_BK + 1) * B + l], w[_L0 + (_BK + 2) * B + l],
-                mu * gr, bulk, dt * vol / 192.0)
-            f1x = o0 + k1x
-            f1y = o1 + k1y
-            f1z = o2 + k1z
-            f2x = o3 + k2x
-            f2y = o4 + k2y
-            f2z = o5 + k2z
-            f3x = o6 + k3x
-            f3y = o7 + k3y
-            f3z = o8 + k3z
-            f4x = o9 + k4x
-            f4y = o10 + k4y
-            f4z = o11 + k4z
-            _store_hourglass(w, l, dt, (o0, o1, o2, o3, o4, o5, o6, o7, o8, o9, o10, o11),
-                             (f1x, f1y, f1z, f2x, f2y, f2z, f3x, f3y, f3z, f4x, f4y, f4z),
-                             (q1x, q1y, q1z, q2x, q2y, q2z, q3x, q3y, q3z, q4x, q4y, q4z))
+                mu * gr, bulk, dt * vol / 192.0 * wph)
+            f1x = o0 + (khg * q1x + k1x)
+            f1y = o1 + (khg * q1y + k1y)
+            f1z = o2 + (khg * q1z + k1z)
+            f2x = o3 + (khg * q2x + k2x)
+            f2y = o4 + (khg * q2y + k2y)
+            f2z = o5 + (khg * q2z + k2z)
+            f3x = o6 + (khg * q3x + k3x)
+            f3y = o7 + (khg * q3y + k3y)
+            f3z = o8 + (khg * q3z + k3z)
+            f4x = o9 + (khg * q4x + k4x)
+            f4y = o10 + (khg * q4y + k4y)
+            f4z = o11 + (khg * q4z + k4z)
+            w[_L0 + _EWH * B + l] = 0.5 * dt * ((o0 + f1x) * q1x + (o1 + f1y) * q1y + (o2 + f1z) * q1z
+                                                + (o3 + f2x) * q2x + (o4 + f2y) * q2y + (o5 + f2z) * q2z
+                                                + (o6 + f3x) * q3x + (o7 + f3y) * q3y + (o8 + f3z) * q3z
+                                                + (o9 + f4x) * q4x + (o10 + f4y) * q4y + (o11 + f4z) * q4z)
+            w[_L0 + _HG * B + l] = f1x
+            w[_L0 + (_HG + 1) * B + l] = f1y
+            w[_L0 + (_HG + 2) * B + l] = f1z
+            w[_L0 + (_HG + 3) * B + l] = f2x
+            w[_L0 + (_HG + 4) * B + l] = f2y
+            w[_L0 + (_HG + 5) * B + l] = f2z
+            w[_L0 + (_HG + 6) * B + l] = f3x
+            w[_L0 + (_HG + 7) * B + l] = f3y
+            w[_L0 + (_HG + 8) * B + l] = f3z
+            w[_L0 + (_HG + 9) * B + l] = f4x
+            w[_L0 + (_HG + 10) * B + l] = f4y
+            w[_L0 + (_HG + 11) * B + l] = f4z
             # stored forces are in the element frame; the nodal forces need them global
             f1x, f1y, f1z = _rotate(r11, r21, r31, r12, r22, r32, r13, r23, r33, f1x, f1y, f1z)
             f2x, f2y, f2z = _rotate(r11, r21, r31, r12, r22, r32, r13, r23, r33, f2x, f2y, f2z)
             f3x, f3y, f3z = _rotate(r11, r21, r31, r12, r22, r32, r13, r23, r33, f3x, f3y, f3z)
             f4x, f4y, f4z = _rotate(r11, r21, r31, r12, r22, r32, r13, r23, r33, f4x, f4y, f4z)
-            _node_forces_lane(w, l, ok, t1x, t1y, t1z, t2x, t2y, t2z, t3x, t3y, t3z,
-                              f1x, f1y, f1z, f2x, f2y, f2z, f3x, f3y, f3z, f4x, f4y, f4z)
-        _write_back(w, e0, nb, n00, nnx, nnxy, f, stress, hg, out)
-
-
-@jit
-def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, out):
-    """Elements ``i0 <= i < i1`` of row ``(j, k)``; ``out`` (6,) accumulates
-    ``dt_min, status, dW_int, dW_plastic, dW_hourglass, dW_viscous``.
-
-    One function per hourglass form (:func:`_row_physical`, :func:`_row_stiffness`), each the same steps
-    per block of ``BLOCK`` elements: gather nodes and element state into the lane scratch (scalar copies,
-    :func:`_gather`), two vectorised lane loops (kinematics and trial stress, :func:`_kinematics`; forces)
-    around a scalar plastic return of the yielding lanes only (:func:`_plastic_return`), then write back
-    and scatter in a fixed order (:func:`_write_back`). Lanes past the end of the row compute a copy of
-    the last element and are discarded.
-    """
-    if mat[M_HG_TYPE] == HG_PHYSICAL:
-        _row_physical(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt,
-                      out)
-    else:
-        _row_stiffness(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt,
-                       out)
+            # nodal forces -(sum_k t_k grad-sign_k + sum_a F_a gamma_a) with
+            # gamma_a = H_a - sum_k w_ak xi_k: collect the xi_k parts first
+            w11 = w[_L0 + _WAK * B + l]
+            w12 = w[_L0 + (_WAK + 1) * B + l]
+            w13 = w[_L0 + (_WAK + 2) * B + l]
+            w21 = w[_L0 + (_WAK + 3) * B + l]
+            w22 = w[_L0 + (_WAK + 4) * B + l]
+            w23 = w[_L0 + (_WAK + 5) * B + l]
+            w31 = w[_L0 + (_WAK + 6) * B + l]
+            w32 = w[_L0 + (_WAK + 7) * B + l]
+            w33 = w[_L0 + (_WAK + 8) * B + l]
+            w41 = w[_L0 + (_WAK + 9) * B + l]
+            w42 = w[_L0 + (_WAK + 10) * B + l]
+            w43 = w[_L0 + (_WAK + 11) * B + l]
+            _corner_forces(w, 0, l, ok,
+                           t1x - (w11 * f1x + w21 * f2x + w31 * f3x + w41 * f4x),
+                           t2x - (w12 * f1x + w22 * f2x + w32 * f3x + w42 * f4x),
+                           t3x - (w13 * f1x + w23 * f2x + w33 * f3x + w43 * f4x), f1x, f2x, f3x, f4x)
+            _corner_forces(w, _NDS, l, ok,
+                           t1y - (w11 * f1y + w21 * f2y + w31 * f3y + w41 * f4y),
+                           t2y - (w12 * f1y + w22 * f2y + w32 * f3y + w42 * f4y),
+                           t3y - (w13 * f1y + w23 * f2y + w33 * f3y + w43 * f4y), f1y, f2y, f3y, f4y)
+            _corner_forces(w, 2 * _NDS, l, ok,
+                           t1z - (w11 * f1z + w21 * f2z + w31 * f3z + w41 * f4z),
+                           t2z - (w12 * f1z + w22 * f2z + w32 * f3z + w42 * f4z),
+                           t3z - (w13 * f1z + w23 * f2z + w33 * f3z + w43 * f4z), f1z, f2z, f3z, f4z)
+        # ---- write back, reductions (lane order), scatter (node order)
+        for l in range(nb):
+            e = e0 + l
+            st = w[_L0 + _STC * B + l]
+            if st != 0.0:
+                out[1] = max(out[1], st)
+                continue
+            for c in range(6):
+                stress[e, c] = w[_L0 + (_SN + c) * B + l]
+            for c in range(12):
+                hg[e, c] = w[_L0 + (_HG + c) * B + l]
+            out[0] = min(out[0], w[_L0 + _DTE * B + l])
+            out[2] += w[_L0 + _EWI * B + l]
+            out[4] += w[_L0 + _EWH * B + l]
+            out[5] += w[_L0 + _EWV * B + l]
+        for r in range(4):
+            nr = n00 + (r & 1) * nnx + (r >> 1) * nnxy
+            o = r * 3 * _NDS
+            for m in range(nb + 1):
+                n = nr + m
+                f[n, 0] += w[_FLO + o + m] + w[_FHI + o + m]
+                f[n, 1] += w[_FLO + o + _NDS + m] + w[_FHI + o + _NDS + m]
+                f[n, 2] += w[_FLO + o + 2 * _NDS + m] + w[_FHI + o + 2 * _NDS + m]
 
 
 def _rows_pass(x, v, f, stress, eps_p, sy_static, hg, temp, vol0, mat, dt, nnx, nny, nx, ny, i0, i1, j0, j1, k0, k1):
