@@ -26,6 +26,7 @@ from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import BoxMesh
 from peenflow.fe.model import Target
 from peenflow.fe.shots import Shots
+from peenflow.fe.window import ViscousSpringFaces
 from peenflow.validation.kernel_cases import R, SAE1070, layer_profile, loadavg, strip_rev_mesh
 
 
@@ -60,10 +61,10 @@ def window_error(speed=55.0):
     mat = Material(**SAE1070)
     shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[[0.0, 0.0, speed]], radius=R, density=7800.0)
     e_ref = 0.5 * shots.mass * speed**2
-    vs = dict(window_boundary="viscous-spring")
+    vs = dict(window_faces=ViscousSpringFaces())
     # warm-up compile (both boundaries) on a tiny case
     tiny = Target(BoxMesh(*(np.linspace(-2e-4, 2e-4, 17),) * 2, np.linspace(0, 2e-4, 9)))
-    for kw in (dict(window_boundary="held"), vs):
+    for kw in (dict(), vs):
         run_impacts(tiny, mat, Shots(centres=[[0, 0, -R - 1e-6]], velocities=[[0, 0, 10.0]], radius=R,
                                      density=7800.0), Options(window_lateral=2.0, window_depth=2.0, **kw))
     boxes = (("strip REV", Target(strip_rev_mesh()), 0.58e-3),
@@ -72,7 +73,7 @@ def window_error(speed=55.0):
     for box, t, half in boxes:
         model = Model(t, mat)
         model.multigrid()
-        held = dict(window_boundary="held")
+        held = dict()  # the default faces
         cases = [("viscous-spring 4 x 4", vs), ("held 4 x 4 (default)", held),
                  ("viscous-spring 3 x 3", dict(vs, window_lateral=3.0, window_depth=3.0)),
                  ("held 3 x 3", dict(held, window_lateral=3.0, window_depth=3.0))]
@@ -81,9 +82,9 @@ def window_error(speed=55.0):
                       ("held 6 x 6", dict(held, window_lateral=6.0, window_depth=6.0)),
                       ("held 4 x 4 + window_sponge=0.3", dict(held, window_sponge=0.3)),
                       ("held, full width x 4 deep", dict(held, window_lateral=18.0)),
-                      ("viscous-spring 4 x 4, no slab term", dict(vs, boundary_slab=0.0)),
-                      ("viscous-spring 4 x 4, no dashpots", dict(vs, boundary_dashpot=0.0)),
-                      ("viscous-spring 4 x 4, dashpots kept while settling", dict(vs, boundary_settle="viscous-spring"))]
+                      ("viscous-spring 4 x 4, no slab term", dict(window_faces=ViscousSpringFaces(slab=0.0))),
+                      ("viscous-spring 4 x 4, no dashpots", dict(window_faces=ViscousSpringFaces(dashpot=0.0))),
+                      ("viscous-spring 4 x 4, dashpots kept while settling", dict(window_faces=ViscousSpringFaces(settle="viscous-spring")))]
         print(f"# {box}: {t.mesh.shape_elements} = {t.mesh.n_elements} elements, S230 at {speed:g} m/s normal; "
               f"one thread; loadavg {loadavg()}", flush=True)
         d0, e0, p0, ep0, i0 = _window_case(t, mat, shots, Options(window=False, final_relaxation=False), model,
@@ -137,8 +138,9 @@ def window_timing(reps=4, speed=55.0):
     shots = Shots(centres=[[0.0, 0.0, -R - 1e-6]], velocities=[[0.0, 0.0, speed]], radius=R, density=7800.0)
     tiny = Target(BoxMesh(*(np.linspace(-2e-4, 2e-4, 17),) * 2, np.linspace(0, 2e-4, 9)))
     kinds = ("held", "viscous-spring")
+    faces = {"held": None, "viscous-spring": ViscousSpringFaces()}
     for b in kinds:
-        run_impacts(tiny, mat, shots, Options(window_lateral=2.0, window_depth=2.0, window_boundary=b))
+        run_impacts(tiny, mat, shots, Options(window_lateral=2.0, window_depth=2.0, window_faces=faces[b]))
     for name, t, n in (("strip REV", Target(strip_rev_mesh()), reps),
                        ("test box", Target(graded_box(0.6e-3, 0.6e-3, 25e-6, fine_half_width=0.15e-3,
                                                       fine_depth=0.1e-3)), 2 * reps)):
@@ -148,7 +150,7 @@ def window_timing(reps=4, speed=55.0):
         for _ in range(n):
             for b in kinds:
                 t0 = time.perf_counter()
-                r = run_impacts(t, mat, shots, Options(window_boundary=b, final_relaxation=False))
+                r = run_impacts(t, mat, shots, Options(window_faces=faces[b], final_relaxation=False))
                 walls[b].append(time.perf_counter() - t0)
                 steps[b] = int(r.shots["steps"][0])
         print(f"# {name}, {n} interleaved runs each (load {load0}/{loadavg()}): " + "; ".join(
@@ -176,11 +178,11 @@ def window_sequence(n_error=4, n_long=80, speed=55.0):
     c = np.column_stack([rng.uniform(-0.3e-3, 0.3e-3, n), rng.uniform(-0.3e-3, 0.3e-3, n), np.full(n, -R - 1e-6)])
     strict = Options(relax_ke_fraction=1e-13, relax_cg_rtol=1e-4)
     nnx, nny, _ = mesh.shape_nodes
-    kinds = (("held 4 x 4 (default)", dict(window_boundary="held")),
-             ("held 4 x 8", dict(window_boundary="held", window_depth=8.0)),
-             ("held 4 x 12", dict(window_boundary="held", window_depth=12.0)),
-             ("viscous-spring 4 x 4", dict(window_boundary="viscous-spring")),
-             ("viscous-spring 4 x 8", dict(window_boundary="viscous-spring", window_depth=8.0)))
+    kinds = (("held 4 x 4 (default)", dict()),
+             ("held 4 x 8", dict(window_depth=8.0)),
+             ("held 4 x 12", dict(window_depth=12.0)),
+             ("viscous-spring 4 x 4", dict(window_faces=ViscousSpringFaces())),
+             ("viscous-spring 4 x 8", dict(window_faces=ViscousSpringFaces(), window_depth=8.0)))
     shots = Shots(centres=c[:n_error], velocities=[[0.0, 0.0, speed]] * n_error, radius=R, density=7800.0)
     e_ref = 0.5 * shots.mass * speed**2
     print(f"# strip REV, {n_error} shots at {speed:g} m/s over +-0.3 mm; loadavg {loadavg()}", flush=True)

@@ -19,47 +19,44 @@ from peenflow.fe import impact as _impact
 from peenflow.fe.impact import ImpactRun  # noqa: F401 - the REV run drives the kernel step by step
 from peenflow.fe.mesh import BoxMesh, graded_axis, uniform_lateral_elements
 from peenflow.fe.records import SHOT_RECORD_FIELDS
-from peenflow.fe.safety import KernelInstabilityError
+from peenflow.fe.safety import KernelInstabilityError, Knob, Stop, knobs
 
 from .params import FidelityParams
 
-# Kernel option names in a kernel stop message -> what a study user changes instead. The kernel
-# knows nothing of study files; tasks translate. Order matters: longer phrases first.
-_STUDY_KEYS = (
-    ("refine the mesh under the impact (smaller h_fine)", "refine the mesh (a smaller fidelity.element_size_um)"),
-    ("refine the mesh under the impact", "refine the mesh (a smaller fidelity.element_size_um)"),
-    ("refine the mesh", "refine the mesh (a smaller fidelity.element_size_um)"),
-    ("lower the shot velocity", "lower the shot velocity (target.velocity_m_s, almen.velocities_m_s)"),
-    ("options.dt_safety", "fidelity.time_step_safety"),
-    ("options.hourglass", "the kernel's hourglass coefficient"),
-    ("options.dt_floor_fraction", "the kernel's step floor"),
-    ("options.runaway_fraction", "the kernel's runaway limit"),
-    ("options.max_steps", "the kernel's step budget"),
-    ("options.settle_damping", "the kernel's settle damping"),
-)
+#: the knobs of a kernel stop (:class:`peenflow.fe.safety.Knob`) named as a study user meets them: a study key,
+#: or (where no study key reaches it) the kernel's own limit; (settling, relaxation) where the two differ
+STUDY_TERMS = {
+    Knob.DT_SAFETY: "fidelity.time_step_safety",
+    Knob.MESH: "the mesh (a smaller fidelity.element_size_um)",
+    Knob.SHOT_VELOCITY: "the shot velocity (target.velocity_m_s, almen.velocities_m_s)",
+    Knob.HOURGLASS: "the kernel's hourglass coefficient (stiffness form)",
+    Knob.DT_FLOOR: "the kernel's step floor",
+    Knob.RUNAWAY: "the kernel's runaway limit",
+    Knob.MAX_STEPS: "the kernel's step budget",
+    Knob.DAMPING: ("the kernel's settle damping", "the kernel's relaxation damping"),
+    Knob.REST: ("fidelity.settle_tolerance", "fidelity.relaxation_tolerance"),
+}
+#: the knobs a study file sets
+STUDY_KEY_KNOBS = frozenset({Knob.DT_SAFETY, Knob.MESH, Knob.SHOT_VELOCITY, Knob.REST})
 _NOT_A_STUDY_KEY = " (the kernel's own limits and coefficients named here are not study keys)"
 
 
-def study_terms(message: str) -> str:
-    """A kernel stop message in study keys (``options.dt_safety`` -> ``fidelity.time_step_safety``, ...)."""
-    relaxing = "relaxation" in message.split(":")[0]
-    rest = "fidelity.relaxation_tolerance" if relaxing else "fidelity.settle_tolerance"
-    message = message.replace("options.rest_ke_fraction", rest)
-    kernel_only = False
-    for kernel, study in _STUDY_KEYS:
-        if kernel in message and study not in message:
-            message = message.replace(kernel, study)
-            kernel_only = kernel_only or "the kernel's" in study
-    return message + _NOT_A_STUDY_KEY if kernel_only else message
+def study_stop(exc: KernelInstabilityError) -> KernelInstabilityError:
+    """The kernel stop ``exc`` with its message naming study keys (``options.dt_safety`` ->
+    ``fidelity.time_step_safety``, ...); a note says when it names a kernel limit no study key sets."""
+    if not isinstance(exc.reason, Stop):
+        return exc
+    kernel_only = any(k not in STUDY_KEY_KNOBS for k in knobs(exc.reason))
+    return exc.in_terms(STUDY_TERMS, note=_NOT_A_STUDY_KEY if kernel_only else "")
 
 
 @contextmanager
 def in_study_terms():
-    """Kernel stop messages raised inside the block name study keys (:func:`study_terms`)."""
+    """Kernel stop messages raised inside the block name study keys (:func:`study_stop`)."""
     try:
         yield
     except KernelInstabilityError as exc:
-        raise KernelInstabilityError(study_terms(str(exc)), exc.status, exc.shot_index, exc.time) from None
+        raise study_stop(exc) from None
 
 
 def run_impacts(*args, **kwargs):

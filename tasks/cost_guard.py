@@ -37,7 +37,6 @@ from peenflow.fe import cost as C
 from peenflow.fe.mesh import BoxMesh
 from peenflow.fe.window import window_size
 from peenflow.methods.coverage import AvramiFit
-from peenflow.study.errors import StudyError
 from peenflow.units import MM
 
 from . import _kernel as K
@@ -281,10 +280,3 @@ def _rev_smaller_than_a_dent(study, p: StudyParams) -> list[str]:
             f"{speed:g} m/s: {math.pi * a * a * 1e6:.3g} mm2), so the REV holds less than one dent and its "
             f"coverage cannot grow shot by shot. What to change: a larger target.rev_size_mm (at least 1 D = "
             f"{p.shot.diameter_m / MM:g} mm and 10 elements)"]
-
-
-def refuse(path, study, p: StudyParams, block_half_width_D: float) -> None:
-    """Raise :class:`peenflow.study.StudyError` listing :func:`problems`, if there are any."""
-    found = problems(study, p, block_half_width_D)
-    if found:
-        raise StudyError(path, found)

@@ -205,10 +205,6 @@ class Graph:
                         if d not in n.coords and reached and d in reached[0]:
                             n.coords[d] = reached[0][d]
 
-    def reached_by(self, node: Node) -> list[dict]:
-        """The combinations of a family that reached ``node``."""
-        return list(self._reached.get(id(node), []))
-
     # -- building -----------------------------------------------------------
     def _register_stage(self, task: Task, stage: str | None) -> str:
         stage = stage or task.name

@@ -97,11 +97,6 @@ class LeaseInfo:
     token: str = ""
     problem: str = ""
 
-    @property
-    def holder_alive(self) -> bool | None:
-        """True/False when decidable, None for another host's lease with a recent heartbeat."""
-        return verdict(self)[0]
-
     def describe(self) -> str:
         if self.problem:
             return f"{self.problem}, {self.heartbeat_age_s:.0f} s old"

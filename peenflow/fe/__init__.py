@@ -26,7 +26,8 @@ flight, Hertz/Johnson estimates), ``window`` (the active window: size,
 validity, viscous-spring faces, sponge), ``solver`` (the explicit loop over
 an active window), ``relaxation`` (global static / dynamic relaxation),
 ``multigrid`` (its preconditioner), ``box_stiffness`` (the element's
-stiffness on a box grid and its product: the multigrid's operator),
+stiffness on a box grid and its product: the multigrid's operator;
+``box_stiffness_reference`` the plain products the tests compare it against),
 ``records`` (the named per-shot record), ``state`` (checkpointable state), ``model`` (static arrays of a run,
 target), ``safety`` (status codes -> exceptions), ``impact`` (the driver:
 :class:`ImpactRun`'s steps and the :func:`run_impacts` loop).
@@ -40,9 +41,10 @@ from peenflow.fe.safety import KernelInstabilityError
 from peenflow.fe.shots import Shots, hertz, johnson_plastic
 from peenflow.fe.records import SHOT_RECORD_DTYPE, SHOT_RECORD_FIELDS, ShotRecord
 from peenflow.fe.state import KernelState
+from peenflow.fe.window import ViscousSpringFaces
 
 __all__ = [
     "run_impacts", "ImpactRun", "ShotRecord", "SHOT_RECORD_DTYPE", "Options", "ImpactRunResult", "Snapshot", "Target", "Material", "Shots",
     "BoxMesh", "box_mesh", "graded_axis", "graded_box", "symmetric_axis",
-    "KernelState", "SHOT_RECORD_FIELDS", "KernelInstabilityError", "hertz", "johnson_plastic",
+    "KernelState", "SHOT_RECORD_FIELDS", "KernelInstabilityError", "hertz", "johnson_plastic", "ViscousSpringFaces",
 ]

@@ -21,9 +21,10 @@ are combined from six probed boxes (:class:`ElementMatrices`, checked
 against direct probes). The operator applies each element in modal form
 (Walsh-Hadamard transform of its corners, then the 21 + 24 nonzero entries
 of the box element's uniform-strain and hourglass blocks, written out in
-:func:`apply_k_box`; :func:`apply_k_modal` with index lists for any other
-pattern): the same operator as the dense 24 x 24 product to round-off,
-4x faster (docs/performance.md section 3, "Multigrid setup").
+:func:`apply_k_box`): the same operator as the dense 24 x 24 product to
+round-off, 4x faster (docs/performance.md section 3, "Multigrid setup"). The
+dense product and the modal product with index lists, which the tests compare
+it against, are in :mod:`peenflow.fe.box_stiffness_reference`.
 
 The operators are serial and in a fixed order: results do not depend on the
 numba thread count.
@@ -35,7 +36,7 @@ import numpy as np
 
 from peenflow._jit import jit
 from peenflow.fe.boundary import mask_fixed
-from peenflow.fe.element import corner_offsets, element_rows
+from peenflow.fe.element import element_rows
 
 # local node order of the solver's element (offsets from the first node)
 _LOCAL = ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1))
@@ -148,37 +149,6 @@ def element_bound(ke: np.ndarray) -> float:
     s = 1.0 / np.sqrt(d)
     return float(np.linalg.eigvalsh(k * s[:, :, None] * s[:, None, :])[:, -1].max())
 
-@jit
-def apply_k(u, out, ke, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
-    """``out = K u`` (N) for the box-element grid; zero at fixed dofs (``bc`` bits)."""
-    offs = corner_offsets(nnx, nnx * nny)
-    out[:, :] = 0.0
-    ul = np.empty(24)  # the element's 24 dofs, corner by corner
-    fl = np.empty(24)
-    for k in range(nz):
-        for j in range(ny):
-            for i in range(nx):
-                n0 = i + nnx * (j + nny * k)
-                for I in range(8):
-                    n = n0 + offs[I]
-                    ul[3 * I] = u[n, 0]
-                    ul[3 * I + 1] = u[n, 1]
-                    ul[3 * I + 2] = u[n, 2]
-                K = ke[tx[i], ty[j], tz[k]]
-                for a in range(24):
-                    fl[a] = 0.0
-                for b in range(24):
-                    ub = ul[b]
-                    for a in range(24):
-                        fl[a] += K[b, a] * ub
-                for I in range(8):
-                    n = n0 + offs[I]
-                    out[n, 0] += fl[3 * I]
-                    out[n, 1] += fl[3 * I + 1]
-                    out[n, 2] += fl[3 * I + 2]
-    mask_fixed(out, bc)
-
-
 # Modal form of a box element's matrix. On the 8 corners, per component, the
 # Walsh-Hadamard transform gives the amplitudes of 1, xi, eta, xi eta, zeta,
 # xi zeta, eta zeta, xi eta zeta (lexicographic corner bits x, y, z). For a
@@ -203,7 +173,7 @@ def modal_transform() -> np.ndarray:
 
     ``F[3 m + c, 3 I + c] = prod over the set bits b of m of (+1 if bit b of corner I's
     lexicographic index is set else -1)``; ``F F^T = 8 I`` per component (the butterflies of
-    :func:`apply_k_modal`)."""
+    :func:`_wht`)."""
     F = np.zeros((24, 24))
     for m in range(8):
         for I in range(8):
@@ -254,92 +224,14 @@ def modal_blocks(ke: np.ndarray):
     return rows.astype(np.int64), cols.astype(np.int64), vals, float(left.max() / big)
 
 
-@jit(inline="always")
-def _butterflies(w):
-    """Walsh-Hadamard transform of 8 corner values in lexicographic order, in place."""
-    for p in (0, 2, 4, 6):
-        a = w[p]
-        b = w[p + 1]
-        w[p] = a + b
-        w[p + 1] = b - a
-    for p in (0, 1, 4, 5):
-        a = w[p]
-        b = w[p + 2]
-        w[p] = a + b
-        w[p + 2] = b - a
-    for p in (0, 1, 2, 3):
-        a = w[p]
-        b = w[p + 4]
-        w[p] = a + b
-        w[p + 4] = b - a
-
-
-@jit(inline="always")
-def _butterflies_t(w):
-    """Transpose of :func:`_butterflies`, in place."""
-    for p in (0, 1, 2, 3):
-        s = w[p]
-        d = w[p + 4]
-        w[p] = s - d
-        w[p + 4] = s + d
-    for p in (0, 1, 4, 5):
-        s = w[p]
-        d = w[p + 2]
-        w[p] = s - d
-        w[p + 2] = s + d
-    for p in (0, 2, 4, 6):
-        s = w[p]
-        d = w[p + 1]
-        w[p] = s - d
-        w[p + 1] = s + d
-
-
-@jit
-def apply_k_modal(u, out, rows, cols, vals, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
-    """``out = K u`` (N) like :func:`apply_k`, with each element's matrix in modal form
-    (``rows, cols, vals`` from :func:`modal_blocks`)."""
-    offs = corner_offsets(nnx, nnx * nny)
-    nnz = len(rows)
-    out[:, :] = 0.0
-    w = np.empty(8)  # one component's 8 corner values, lexicographic
-    xm = np.empty(21)  # modal amplitudes in, out
-    ym = np.empty(21)
-    for k in range(nz):
-        for j in range(ny):
-            for i in range(nx):
-                n0 = i + nnx * (j + nny * k)
-                for c in range(3):
-                    for I in range(8):
-                        w[_LEX[I]] = u[n0 + offs[I], c]
-                    _butterflies(w)
-                    for a in range(3):
-                        xm[3 * a + c] = w[_LIN_MODES[a]]
-                    for b in range(4):
-                        xm[9 + 3 * b + c] = w[_HG_MODES[b]]
-                for a in range(21):
-                    ym[a] = 0.0
-                v = vals[tx[i], ty[j], tz[k]]
-                for t in range(nnz):
-                    ym[rows[t]] += v[t] * xm[cols[t]]
-                for c in range(3):
-                    w[0] = 0.0
-                    for a in range(3):
-                        w[_LIN_MODES[a]] = ym[3 * a + c]
-                    for b in range(4):
-                        w[_HG_MODES[b]] = ym[9 + 3 * b + c]
-                    _butterflies_t(w)
-                    for I in range(8):
-                        out[n0 + offs[I], c] += w[_LEX[I]]
-    mask_fixed(out, bc)
-
-
 #: the nonzero entries (modal row, column) of a box element's two blocks, in :func:`modal_blocks`' order
 BOX_PATTERN = ((0, 0), (0, 4), (0, 8), (1, 1), (1, 3), (2, 2), (2, 6), (3, 1), (3, 3), (4, 0), (4, 4), (4, 8), (5, 5), (5, 7), (6, 2), (6, 6), (7, 5), (7, 7), (8, 0), (8, 4), (8, 8), (9, 9), (9, 17), (10, 10), (10, 14), (11, 11), (11, 13), (11, 15), (12, 12), (12, 16), (13, 11), (13, 13), (13, 15), (14, 10), (14, 14), (15, 11), (15, 13), (15, 15), (16, 12), (16, 16), (17, 9), (17, 17), (18, 18), (19, 19), (20, 20))
 
 
 @jit(inline="always")
 def _wht(a0, a1, a2, a3, a4, a5, a6, a7):
-    """:func:`_butterflies` on 8 scalars (lexicographic corners -> modes)."""
+    """Walsh-Hadamard transform of 8 corner values in lexicographic order (corners -> modes; the butterflies
+    of :func:`modal_transform`)."""
     a0, a1, a2, a3, a4, a5, a6, a7 = a0 + a1, a1 - a0, a2 + a3, a3 - a2, a4 + a5, a5 - a4, a6 + a7, a7 - a6
     a0, a2, a1, a3, a4, a6, a5, a7 = a0 + a2, a2 - a0, a1 + a3, a3 - a1, a4 + a6, a6 - a4, a5 + a7, a7 - a5
     return a0 + a4, a1 + a5, a2 + a6, a3 + a7, a4 - a0, a5 - a1, a6 - a2, a7 - a3
@@ -347,7 +239,7 @@ def _wht(a0, a1, a2, a3, a4, a5, a6, a7):
 
 @jit(inline="always")
 def _wht_t(a0, a1, a2, a3, a4, a5, a6, a7):
-    """:func:`_butterflies_t` on 8 scalars (modes -> lexicographic corners)."""
+    """Transpose of :func:`_wht` (modes -> lexicographic corners)."""
     a0, a4, a1, a5, a2, a6, a3, a7 = a0 - a4, a0 + a4, a1 - a5, a1 + a5, a2 - a6, a2 + a6, a3 - a7, a3 + a7
     a0, a2, a1, a3, a4, a6, a5, a7 = a0 - a2, a0 + a2, a1 - a3, a1 + a3, a4 - a6, a4 + a6, a5 - a7, a5 + a7
     return a0 - a1, a0 + a1, a2 - a3, a2 + a3, a4 - a5, a4 + a5, a6 - a7, a6 + a7
@@ -375,8 +267,10 @@ def _add_corners(out, n0, nnx, nnxy, c, o0, o1, o2, o3, o4, o5, o6, o7):
 
 @jit
 def apply_k_box(u, out, vals, tx, ty, tz, nnx, nny, nx, ny, nz, bc):
-    """:func:`apply_k_modal` for matrices whose entries lie in :data:`BOX_PATTERN` (``vals`` in
-    that order), written out: corners and modes in registers, no index lists."""
+    """``out = K u`` (N), each element's matrix in modal form with its entries in :data:`BOX_PATTERN`
+    (``vals`` in that order, :func:`modal_blocks`), written out: corners and modes in registers, no index
+    lists; zero at fixed dofs (``bc`` bits). The references it is tested against:
+    :mod:`peenflow.fe.box_stiffness_reference`."""
     nnxy = nnx * nny
     out[:, :] = 0.0
     for k in range(nz):

@@ -125,6 +125,7 @@ import numpy as np
 from peenflow.fe.johnson_cook import (HG_PHYSICAL, M_ADIABATIC, M_BULK_LIN, M_BULK_QUAD, M_HEAT, M_HG, M_HG_FLOOR,
                                       M_HG_TYPE, M_LAM, M_MU, M_RHO, jaumann_trial, plastic_correction,
                                       static_flow_stress, thermal_factor, von_mises)
+from peenflow.fe.safety import ST_DISTORTION, ST_NEGATIVE_VOLUME, ST_OK
 
 # local node signs (xi, eta, zeta) and the 4 hourglass base vectors
 SX = (-1.0, 1.0, 1.0, -1.0, -1.0, 1.0, 1.0, -1.0)
@@ -144,10 +145,6 @@ def corner_offsets(nnx, nnxy):
     return (0, 1, 1 + nnx, nnx, nnxy, nnxy + 1, nnxy + 1 + nnx, nnxy + nnx)
 
 
-# status codes shared with the solver (see safety.py)
-ST_OK = 0
-ST_NEGATIVE_VOLUME = 2
-ST_DISTORTION = 3
 
 
 @jit(inline="always")
@@ -539,7 +536,7 @@ def _row(j, k, i0, i1, nnx, nny, nx, ny, x, v, f, stress, eps_p, sy_static, hg, 
             vol = 8.0 * det
             v0 = w[_L0 + _VOL0 * B + l]
             ratio = vol / v0
-            stc = 0.0
+            stc = float(ST_OK)
             stc = float(ST_DISTORTION) if (ratio < 0.1) | (ratio > 10.0) else stc
             stc = stc if det > 0.0 else float(ST_NEGATIVE_VOLUME)
             d1x, d1y, d1z, d2x, d2y, d2z, d3x, d3y, d3z = _scaled9(1.0 / det, c1x, c1y, c1z, c2x, c2y, c2z, c3x, c3y, c3z)

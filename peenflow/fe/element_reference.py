@@ -22,10 +22,11 @@ import numpy as np
 from numba import prange
 
 from peenflow._jit import jit, jit_twins
-from peenflow.fe.element import (H1, H2, H3, H4, ST_DISTORTION, ST_NEGATIVE_VOLUME, ST_OK, SX, SY, SZ,
+from peenflow.fe.element import (H1, H2, H3, H4, SX, SY, SZ,
                                  _element_frame, _face_vectors, _mode_rate, _hourglass_shape,
                                  _physical_increments, _rates,
                                  _rotate, _scaled9, _tractions, corner_offsets, hourglass_omega2_factor)
+from peenflow.fe.safety import ST_DISTORTION, ST_NEGATIVE_VOLUME, ST_OK
 from peenflow.fe.johnson_cook import (HG_PHYSICAL, M_ADIABATIC, M_BULK_LIN, M_BULK_QUAD, M_HEAT, M_HG, M_HG_FLOOR,
                                       M_HG_TYPE, M_LAM, M_MU, M_RHO, static_flow_stress, stress_update,
                                       thermal_factor)

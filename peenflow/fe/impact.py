@@ -18,7 +18,7 @@ Event-driven time (one shot at a time, in the given order):
 1. The target is at rest. The next shot flies in a straight line to the
    exact instant it first touches a top-surface node (:func:`time_to_contact`);
    no target step is taken during free flight. It is placed
-   ``options.lead_steps`` stable steps before that instant, on its line (a
+   :data:`LEAD_STEPS` stable steps before that instant, on its line (a
    given centre that already overlaps a pile-up is put back upstream: the
    shot comes from far away; :func:`time_to_contact`).
 2. Impact phase on the ACTIVE WINDOW (``options.window``), an element box
@@ -43,11 +43,6 @@ bring the landing point to the middle of the mesh, and rolled back once the
 shot has settled (:mod:`peenflow.fe.periodic`). The recorded window
 (``win_*``) is in the target's frame and may extend past the mesh (it
 wraps); recorded shot centres likewise. No symmetric mass fraction applies.
-
-Length: the kernel's public door in one place. A quarter of the file is
-:class:`Options`, mostly the documentation of its fields (units, defaults and
-the measurements behind them) and their checks, which are read with the driver
-that uses them; the rest is the run's records and the driver's steps.
 """
 
 from __future__ import annotations
@@ -70,8 +65,11 @@ from peenflow.fe.records import SHOT_RECORD_DTYPE, SHOT_RECORD_FIELDS, ShotRecor
 from peenflow.fe.relaxation import relax
 from peenflow.fe.shots import Shots, time_to_contact
 from peenflow.fe.state import KernelState
-from peenflow.fe.window import (WINDOW_VALIDATED, WindowValidityWarning, contact_estimates, impact_window, sponge,
-                                viscous_spring_boundary, window_validity)
+from peenflow.fe.window import (SETTLE_SPRINGS, WINDOW_VALIDATED, ViscousSpringFaces, WindowValidityWarning,
+                                contact_estimates, impact_window, sponge, window_validity)
+
+#: a shot starts this many stable steps before it touches (its free flight is skipped up to there)
+LEAD_STEPS = 2
 
 __all__ = ["Options", "ImpactRun", "ImpactRunResult", "Snapshot", "ShotRecord", "run_impacts", "reference_scales",
            "Target", "Material", "Shots", "WindowValidityWarning", "WINDOW_VALIDATED", "SHOT_RECORD_FIELDS",
@@ -90,11 +88,12 @@ class Options:
       errors docs/validation.md section 4) or "stiffness" (Flanagan-Belytschko
       stiffness form with ``hourglass`` and ``hourglass_plastic_floor``, the
       default before 2026-12: dent -5.8 % instead of -2.4 % at 25 um, 55 m/s).
+      Bulk viscosity: the kernel's own coefficients
+      (:data:`peenflow.fe.johnson_cook.BULK_LINEAR`, ``BULK_QUADRATIC``).
     hourglass : Flanagan-Belytschko stiffness coefficient Q_hg (stiffness form only).
     hourglass_plastic_floor : lowest factor on the hourglass stiffness of a
       yielding element (the factor is the element's actual/elastic deviatoric
       stress increment; 1 = plain elastic hourglass stiffness).
-    bulk_linear, bulk_quadratic : bulk-viscosity coefficients.
     window : integrate only an active window around each impact.
     window_lateral, window_depth : window half width / depth in estimated contact radii.
     window_min_elements : the window's half width and depth are at least this
@@ -113,23 +112,14 @@ class Options:
       chosen and measured at a higher level (a study's fidelity preset) turn
       it off; the result's ``window_outside_validated`` says it all the same.
     window_sponge : absorbing layer along the held window faces, as a fraction
-      of the window's smaller extent (half width or depth); 0 = none.
-    sponge_damping : its peak damping rate, x c_dilatational / layer thickness.
-    window_boundary : the window faces inside the mesh: "held" (fixed;
-      default) or "viscous-spring" (Lysmer-Kuhlemeyer dashpots in parallel
-      with half-space + slab springs on top of the frozen reaction that held
-      them, :func:`peenflow.fe.window.viscous_spring_boundary`; face nodes next to already
-      yielded elements stay held). Better for a single impact, worse in
-      sequences (docs/validation.md section 6, "In a sequence"), hence not the default.
-    boundary_spring, boundary_dashpot : scale the viscous-spring boundary's
-      springs / dashpots (1 = the standard values).
-    boundary_slab : scales the springs' slab term (stiffness of the exterior
-      between a face and a held mesh face; 0 = half-space springs only).
-    boundary_settle : the viscous-spring faces while the window settles after
-      the shot has left: "spring" (springs only: the dashpots would only slow
-      the settling, 400 instead of 240 steps on the strip REV), "viscous-spring"
-      (both), "held" (frozen where they are; not recommended: the exterior then
-      receives the faces' dynamic sag and yields).
+      of the window's smaller extent (half width or depth); 0 = none (its peak
+      damping: :data:`peenflow.fe.window.SPONGE_DAMPING`).
+    window_faces : the window faces inside the mesh: None (held fixed;
+      default) or a variant passed in, :class:`peenflow.fe.window.ViscousSpringFaces`
+      (Lysmer-Kuhlemeyer dashpots in parallel with half-space + slab springs on
+      top of the frozen reaction that held them). Better for a single impact,
+      worse in sequences (docs/validation.md section 6, "In a sequence"), hence
+      not the default and set by no stage.
     settle_damping : damping factor for settling after each impact (x pi c_s / L).
     rest_ke_fraction, rest_v_fraction : "at rest" after an impact (x impact energy / speed).
     relax_method : global relaxation (snapshots, end): "static" (default:
@@ -149,13 +139,10 @@ class Options:
       back to dynamic relaxation.
     relax_damping, relax_v_fraction : dynamic method: damping factor (x pi
       c_s / L), max speed <= relax_v_fraction x the largest shot speed.
-    lead_steps : the shot starts this many stable steps before touching.
     final_relaxation : relax the whole mesh after the last shot (False: the
       result fields are the unrelaxed final state; for timing and callers
       that relax themselves).
     threads : numba threads for the element loop (1 = serial kernel).
-    precision : "float64" (only option implemented; float32 measured and not
-      kept, docs/performance.md section 1).
     record : keep per-step histories (contact force, shot trajectory, energies).
     record_every : record one step in this many.
     max_steps : step budget per phase.
@@ -167,8 +154,6 @@ class Options:
     hourglass_type: str = "physical"
     hourglass: float = 0.05
     hourglass_plastic_floor: float = 0.1
-    bulk_linear: float = 0.06
-    bulk_quadratic: float = 1.5
     window: bool = True
     window_lateral: float = 4.0
     window_depth: float = 4.0
@@ -176,12 +161,7 @@ class Options:
     window_min_wave: float = 0.05
     window_warning: bool = True
     window_sponge: float = 0.0
-    window_boundary: str = "held"
-    boundary_spring: float = 1.0
-    boundary_dashpot: float = 1.0
-    boundary_slab: float = 1.0
-    boundary_settle: str = "spring"
-    sponge_damping: float = 10.0
+    window_faces: ViscousSpringFaces | None = None
     settle_damping: float = 1.0
     rest_ke_fraction: float = 1e-6
     rest_v_fraction: float = 1e-4
@@ -191,10 +171,8 @@ class Options:
     relax_v_fraction: float = 1e-4
     relax_cg_rtol: float = 0.3
     relax_max_outer: int = 20
-    lead_steps: int = 2
     final_relaxation: bool = True
     threads: int = 1
-    precision: str = "float64"
     record: bool = False
     record_every: int = 1
     max_steps: int = 2_000_000
@@ -206,16 +184,13 @@ class Options:
         # written so that NaN fails too
         ranges = (
             ("dt_safety", 0.0, False, 1.0), ("friction", 0.0, True, None), ("hourglass", 0.0, True, None),
-            ("hourglass_plastic_floor", 0.0, False, 1.0), ("bulk_linear", 0.0, True, None),
-            ("bulk_quadratic", 0.0, True, None), ("window_lateral", 0.0, False, None),
+            ("hourglass_plastic_floor", 0.0, False, 1.0), ("window_lateral", 0.0, False, None),
             ("window_depth", 0.0, False, None), ("window_min_elements", 2.0, True, None),
             ("window_min_wave", 0.0, True, None), ("window_sponge", 0.0, True, 1.0),
-            ("boundary_spring", 0.0, True, None), ("boundary_dashpot", 0.0, True, None),
-            ("boundary_slab", 0.0, True, None), ("sponge_damping", 0.0, True, None),
             ("settle_damping", 0.0, False, None), ("rest_ke_fraction", 0.0, False, None),
             ("rest_v_fraction", 0.0, False, None), ("relax_damping", 0.0, False, None),
             ("relax_ke_fraction", 0.0, False, None), ("relax_v_fraction", 0.0, False, None),
-            ("relax_cg_rtol", 0.0, False, 1.0), ("relax_max_outer", 1, True, None), ("lead_steps", 0, True, None),
+            ("relax_cg_rtol", 0.0, False, 1.0), ("relax_max_outer", 1, True, None),
             ("threads", 1, True, None), ("record_every", 1, True, None), ("max_steps", 1, True, None),
             ("dt_floor_fraction", 0.0, True, 1.0), ("runaway_fraction", 0.0, False, None),
         )
@@ -226,15 +201,10 @@ class Options:
             if not ok:
                 interval = f"{'[' if closed else '('}{low}, {'inf)' if high is None else f'{high}]'}"
                 raise ValueError(f"Options.{name} = {value!r}: expected a number in {interval}")
-        if self.precision != "float64":
-            raise NotImplementedError(
-                f"precision={self.precision!r}: only 'float64' is implemented. float32 state was measured "
-                "(docs/performance.md section 1: ~19 % less CPU per impact, residual stresses within 1e-5) "
-                "but not adopted: it needs a dtype-generic solver and a second, uncached copy of the element "
-                "kernel")
-        for name, allowed in (("hourglass_type", ("physical", "stiffness")),
-                              ("relax_method", ("static", "dynamic")), ("window_boundary", ("held", "viscous-spring")),
-                              ("boundary_settle", ("spring", "viscous-spring", "held"))):
+        if self.window_faces is not None and not isinstance(self.window_faces, ViscousSpringFaces):
+            raise ValueError(f"Options.window_faces = {self.window_faces!r}: expected None (held faces) or a "
+                             "peenflow.fe.window.ViscousSpringFaces")
+        for name, allowed in (("hourglass_type", ("physical", "stiffness")), ("relax_method", ("static", "dynamic"))):
             if getattr(self, name) not in allowed:
                 raise ValueError(f"Options.{name} = {getattr(self, name)!r}: expected one of {allowed}")
 
@@ -386,8 +356,7 @@ class ImpactRun:
         self.material = material
         self.model = model = Model(
             target, material, hourglass=options.hourglass, hourglass_type=options.hourglass_type,
-            hourglass_plastic_floor=options.hourglass_plastic_floor, bulk_linear=options.bulk_linear,
-            bulk_quadratic=options.bulk_quadratic)
+            hourglass_plastic_floor=options.hourglass_plastic_floor)
         if state is None:
             st = model.new_state()
         elif isinstance(state, KernelState):
@@ -456,7 +425,7 @@ class ImpactRun:
         # event-driven skip: free flight to just before contact
         a_est, t_est = contact_estimates(shots, material, abs(vel[2]), i)
         dt_est = options.dt_safety * float(np.min(np.diff(model.mesh.z))) / material.wave_speed
-        lead = options.lead_steps * dt_est
+        lead = LEAD_STEPS * dt_est
         # negative when the given centre overlaps the surface: the shot is
         # put back on its line (time_to_contact), the clock never runs back
         t_fly = t_hit - lead
@@ -471,11 +440,8 @@ class ImpactRun:
                 warnings.warn(f"shot {i}: the active window {tuple(int(w) for w in win)} (element box) is "
                               f"outside what it was validated for: {why}", WindowValidityWarning, stacklevel=3)
         sponge_n, sponge_a = sponge(model, material, options, win)
-        boundary = None
-        if options.window and options.window_boundary == "viscous-spring":
-            boundary = viscous_spring_boundary(model, win, hit_xy, spring=options.boundary_spring,
-                                               dashpot=options.boundary_dashpot, slab=options.boundary_slab,
-                                               eps_p=st.eps_p)
+        faces = options.window_faces if options.window else None
+        boundary = None if faces is None else faces.boundary(model, win, hit_xy, st.eps_p)
         res = model.phase(
             st, S.MODE_IMPACT, win, shot,
             safety=options.dt_safety,
@@ -493,7 +459,7 @@ class ImpactRun:
             sponge_layers=sponge_n,
             sponge_alpha=sponge_a,
             boundary=boundary,
-            boundary_settle={"viscous-spring": 0, "held": 1, "spring": 2}[options.boundary_settle],
+            boundary_settle=SETTLE_SPRINGS if faces is None else faces.settle_code,
             where="impact",
             shot_index=i,
         )

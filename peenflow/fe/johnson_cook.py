@@ -58,6 +58,11 @@ HG_PHYSICAL = 1  # assumed-strain physical stabilisation (no coefficient), co-ro
 HOURGLASS_TYPES = {"stiffness": HG_STIFFNESS, "physical": HG_PHYSICAL}
 
 
+#: bulk-viscosity coefficients of the element (linear, quadratic in the volumetric strain rate): the kernel's own
+BULK_LINEAR = 0.06
+BULK_QUADRATIC = 1.5
+
+
 @dataclass(frozen=True)
 class Material:
     """Elastic constants + Johnson-Cook parameters of the target (SI units).
@@ -139,8 +144,9 @@ class Material:
     def thermal_on(self) -> bool:
         return self.m > 0 and (self.adiabatic or self.initial_temperature > self.T_room)
 
-    def to_array(self, bulk_linear: float = 0.06, bulk_quadratic: float = 1.5, hourglass: float = 0.05,
-                 hourglass_plastic_floor: float = 0.1, hourglass_type: str = "stiffness") -> np.ndarray:
+    def to_array(self, bulk_linear: float = BULK_LINEAR, bulk_quadratic: float = BULK_QUADRATIC,
+                 hourglass: float = 0.05, hourglass_plastic_floor: float = 0.1,
+                 hourglass_type: str = "stiffness") -> np.ndarray:
         """The float64 material vector the numba kernels read (see ``M_*``).
 
         ``hourglass_type``: "stiffness" (Flanagan-Belytschko, uses ``hourglass``

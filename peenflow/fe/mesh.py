@@ -19,17 +19,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: Natural coordinates of the 8 local nodes (xi, eta, zeta), shape (3, 8).
-NODE_SIGNS = np.array(
-    [
-        [-1, 1, 1, -1, -1, 1, 1, -1],
-        [-1, -1, 1, 1, -1, -1, 1, 1],
-        [-1, -1, -1, -1, 1, 1, 1, 1],
-    ],
-    dtype=np.float64,
-)
-
-
 #: steepest grading accepted (size ratio of neighbouring elements). The
 #: one-point hexahedron and the box multigrid work on any ratio, but a size
 #: jump reflects the waves too short for the larger element (their cut-off

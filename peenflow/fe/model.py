@@ -15,7 +15,7 @@ import numpy as np
 
 from peenflow.fe import solver as S
 from peenflow.fe.boundary import TIED, node_fixity
-from peenflow.fe.johnson_cook import M_RATE_ON, Material
+from peenflow.fe.johnson_cook import BULK_LINEAR, BULK_QUADRATIC, M_RATE_ON, Material
 from peenflow.fe.mesh import BoxMesh
 from peenflow.fe.periodic import check_periodic_mesh, tie_masters
 from peenflow.fe.safety import check_status
@@ -77,7 +77,7 @@ class Model:
     """Static arrays of a run (built once; not part of the checkpointed state)."""
 
     def __init__(self, target: Target, material: Material, *, hourglass=0.05, hourglass_plastic_floor=0.1,
-                 bulk_linear=0.06, bulk_quadratic=1.5, hourglass_type="physical"):
+                 bulk_linear=BULK_LINEAR, bulk_quadratic=BULK_QUADRATIC, hourglass_type="physical"):
         mesh = target.mesh
         self.target = target
         self.mesh = mesh
@@ -223,7 +223,8 @@ class Model:
         s.f[:] = 0.0
         dt0, st = S.initial_dt(s.x, s.v, s.f, s.stress, s.eps_p, s.sy_static, s.hg, s.temp, self.vol0, self.mat,
                                self.nnx, self.nny, self.nx, self.ny, win)
-        check_status(st, where=where, shot_index=shot_index, time=float(s.ctl[S.C_TIME]))
+        check_status(st, where=where, shot_index=shot_index, time=float(s.ctl[S.C_TIME]),
+                     relaxing=mode == S.MODE_RELAX)
         self.fold(s.f)
         if boundary is None:
             bnodes = np.zeros(0, dtype=np.int64)
@@ -261,7 +262,8 @@ class Model:
             self.periodic,
         )
         if raise_on_error:
-            check_status(status, where=where, shot_index=shot_index, time=float(ctl[S.C_TIME]))
+            check_status(status, where=where, shot_index=shot_index, time=float(ctl[S.C_TIME]),
+                         relaxing=mode == S.MODE_RELAX)
         if boundary is not None and status == S.ST_OK and len(bnodes) > 0:
             exterior_update(self, s, win, hold, bnodes, bx0, where, shot_index)
         return PhaseResult(int(status), info, rec[: int(info[S.I_NREC])].copy())

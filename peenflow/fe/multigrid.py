@@ -54,8 +54,8 @@ import numpy as np
 
 from peenflow._jit import jit
 from peenflow.fe.boundary import TIED, mask_fixed, tied_master
-from peenflow.fe.box_stiffness import (BOX_PATTERN, MODAL_TOLERANCE, ElementMatrices, apply_k, apply_k_box,
-                                       apply_k_modal, element_bound, inverse_diagonal, modal_blocks)
+from peenflow.fe.box_stiffness import (BOX_PATTERN, MODAL_TOLERANCE, ElementMatrices, apply_k_box, element_bound,
+                                       inverse_diagonal, modal_blocks)
 
 COARSEST_NODES = 600
 CHEB_DEGREE = 2
@@ -268,15 +268,10 @@ class Level:
     interp: tuple | None = None  # prolongation from the next coarser level (cx0, cx1, wx, cy0, ...)
     coarse_inv: np.ndarray | None = None  # dense inverse on the coarsest level
     periodic: bool = False  # tied lateral faces: vectors live on the masters (slaves 0)
-    modal: tuple | None = None  # (rows, cols, vals) when the element matrices split into modal blocks
+    modal: tuple = ()  # (rows, cols, vals): the element matrices in the box element's modal blocks
 
     def _apply_box(self, u, out):
-        if self.modal is not None and len(self.modal[0]) == len(BOX_PATTERN):
-            apply_k_box(u, out, self.modal[2], *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
-        elif self.modal is not None:
-            apply_k_modal(u, out, *self.modal, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
-        else:
-            apply_k(u, out, self.ke, *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
+        apply_k_box(u, out, self.modal[2], *self.types, self.nn[0], self.nn[1], *self.ne, self.bc)
 
     def apply(self, u, out):
         if self.periodic:
@@ -340,7 +335,13 @@ class Multigrid:
         else:
             inverse_diagonal(ke, *types, nn[0], nn[1], *ne, bc, dinv)
         rows, cols, vals, coupling = modal_blocks(ke)
-        modal = (rows, cols, vals) if coupling <= MODAL_TOLERANCE else None
+        if coupling > MODAL_TOLERANCE or len(rows) != len(BOX_PATTERN):
+            # the solver's element on a box (either hourglass form) always has that form
+            raise ValueError(
+                f"multigrid: element matrices not of the box element's modal form (coupling {coupling:.2e} of the "
+                f"largest entry outside its blocks, {len(rows)} block entries for {len(BOX_PATTERN)}); the "
+                "multigrid applies only that form (peenflow.fe.box_stiffness_reference has the general products)")
+        modal = (rows, cols, vals)
         return Level(axes, nn, ne, tuple(types), ke, bc, dinv, periodic=periodic, modal=modal)
 
     def _setup_smoothers(self):

@@ -123,7 +123,7 @@ def _forces(model, st: KernelState, dt: float, threads: int, where: str) -> np.n
     _, status, wi, wp, wh, wv = fn(st.x, st.v, st.f, st.stress, st.eps_p, st.sy_static, st.hg, st.temp, model.vol0,
                                    model.mat_static, dt, model.nnx, model.nny, model.nx, model.ny,
                                    0, model.nx, 0, model.ny, 0, model.nz)
-    check_status(status, where=where, time=float(st.ctl[S.C_TIME]))
+    check_status(status, where=where, time=float(st.ctl[S.C_TIME]), relaxing=True)
     st.energy[S.E_INT] += wi
     st.energy[S.E_PL] += wp
     st.energy[S.E_HG] += wh

@@ -50,18 +50,13 @@ from peenflow._jit import jit
 from peenflow.fe.boundary import TIE_X, TIE_Y, TIED, tied_master
 from peenflow.fe.contact import contact_kinematic
 from peenflow.fe.element import element_rows, element_rows_parallel
+# the status codes and their messages live in safety.py
+from peenflow.fe.safety import (ST_DISTORTION, ST_DT_COLLAPSE, ST_MAX_STEPS, ST_NAN,  # noqa: F401
+                                ST_NEGATIVE_VOLUME, ST_OK, ST_RUNAWAY)
 
 MODE_IMPACT = 0
 MODE_RELAX = 1
 
-# status codes (see safety.py for the messages)
-ST_OK = 0
-ST_NEGATIVE_VOLUME = 2
-ST_DISTORTION = 3
-ST_NAN = 4
-ST_DT_COLLAPSE = 5
-ST_RUNAWAY = 6
-ST_MAX_STEPS = 7
 
 # control vector indices (float64)
 C_DT_PREV, C_DT_NEXT, C_TIME, C_SAFETY, C_ALPHA, C_REST_KE, C_REST_V, C_E_REF = 0, 1, 2, 3, 4, 5, 6, 7

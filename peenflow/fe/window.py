@@ -11,9 +11,10 @@ force at 1-5 m/s, 0.4 % with the minimum). A window smaller than any
 measured (:data:`WINDOW_VALIDATED`) is said so (:func:`window_validity`,
 :class:`WindowValidityWarning`).
 
-Its faces inside the mesh are held fixed (``window_boundary="held"``,
+Its faces inside the mesh are held fixed (``Options.window_faces = None``,
 default) or stand on the exterior through a viscous-spring boundary
-(:func:`viscous_spring_boundary`): Lysmer-Kuhlemeyer dashpots absorb the
+(``Options.window_faces = ViscousSpringFaces()``, a variant passed in;
+:func:`viscous_spring_boundary`): Lysmer-Kuhlemeyer dashpots absorb the
 waves that held faces send back to the contact, springs carry the slow
 contact load and the residual field, starting from the reaction that held
 the faces; once the shot has left, the exterior elements on the faces are
@@ -128,17 +129,21 @@ def impact_window(model, material: Material, options, a_est: float, t_est: float
     return win
 
 
+#: peak damping rate of the absorbing layer (:func:`sponge`), x c_dilatational / layer thickness
+SPONGE_DAMPING = 10.0
+
+
 def sponge(model, material: Material, options, win: np.ndarray) -> tuple[int, float]:
     """(layers, peak damping rate 1/s) of the absorbing layer along the held faces of ``win``
     (``Options.window_sponge`` x the window's smaller extent, at least 2 layers of the finest
-    element; ``sponge_damping`` x c_p / its thickness); (0, 0.0) when there is none."""
+    element; :data:`SPONGE_DAMPING` x c_p / its thickness); (0, 0.0) when there is none."""
     if not (options.window and options.window_sponge > 0):
         return 0, 0.0
     m_ = model.mesh
     ext = min(0.5 * (m_.x[win[1]] - m_.x[win[0]]), 0.5 * (m_.y[win[3]] - m_.y[win[2]]), m_.z[win[5]])
     hmin = float(np.min(np.diff(m_.z)))
     n = max(2, int(round(options.window_sponge * ext / hmin)))
-    return n, options.sponge_damping * material.wave_speed / (n * hmin)
+    return n, SPONGE_DAMPING * material.wave_speed / (n * hmin)
 
 
 def window_validity(model, material: Material, win: np.ndarray, xc: float, yc: float,
@@ -178,6 +183,46 @@ class WindowBoundary:
     nodes: np.ndarray
     stiffness: np.ndarray
     damping: np.ndarray
+
+
+#: what viscous-spring faces do once the shot has left (:func:`peenflow.fe.solver.run_phase`'s ``boundary_settle``)
+SETTLE_CODES = {"viscous-spring": 0, "held": 1, "spring": 2}
+SETTLE_SPRINGS = SETTLE_CODES["spring"]
+
+
+@dataclass(frozen=True)
+class ViscousSpringFaces:
+    """Window faces on the exterior's springs and dashpots instead of held (``Options.window_faces``).
+
+    A research variant passed in, not the default: better for a single impact, worse in sequences
+    (module docstring; docs/validation.md section 6, "In a sequence"). Each shot's faces are
+    :func:`viscous_spring_boundary` of its window. ``dashpot`` scales the dashpots, ``slab`` the
+    springs' slab term (stiffness of the exterior between a face and a held mesh face; 0 = half-space
+    springs only; 1 = the standard values). ``settle``: the faces while the window settles after the
+    shot has left: "spring" (springs only: the dashpots would only slow the settling, 400 instead of
+    240 steps on the strip REV), "viscous-spring" (both), "held" (frozen where they are; not
+    recommended: the exterior then receives the faces' dynamic sag and yields).
+    """
+
+    dashpot: float = 1.0
+    slab: float = 1.0
+    settle: str = "spring"
+
+    def __post_init__(self):
+        for name in ("dashpot", "slab"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and not isinstance(value, bool) and value >= 0.0):
+                raise ValueError(f"ViscousSpringFaces.{name} = {value!r}: expected a number in [0.0, inf)")
+        if self.settle not in SETTLE_CODES:
+            raise ValueError(f"ViscousSpringFaces.settle = {self.settle!r}: expected one of {tuple(SETTLE_CODES)}")
+
+    @property
+    def settle_code(self) -> int:
+        return SETTLE_CODES[self.settle]
+
+    def boundary(self, model, win: np.ndarray, source, eps_p: np.ndarray) -> "WindowBoundary | None":
+        """The faces of window ``win`` around impact point ``source`` (:func:`viscous_spring_boundary`)."""
+        return viscous_spring_boundary(model, win, source, dashpot=self.dashpot, slab=self.slab, eps_p=eps_p)
 
 
 def viscous_spring_boundary(model, win: np.ndarray, source, *, spring: float = 1.0, dashpot: float = 1.0,

@@ -28,10 +28,6 @@ def _pm(mean: float, std: float, unit: str, digits: int = 3) -> str:
     return f"{mean:.{digits}f} {unit}"
 
 
-def _one(ds, name) -> float:
-    return float(np.asarray(ds[name]).reshape(-1)[0])
-
-
 def headline_numbers(graph, store) -> list[tuple[str, str, str]]:
     rows: list[tuple[str, str, str]] = []
 

@@ -258,12 +258,6 @@ class Dmin(ShotScaled):
             )
         return self
 
-    def search_settings(self) -> dict:
-        """The keys both searches use (not the strip-only velocity and angles):
-        what a target d_min result depends on besides the target itself."""
-        keys = ("threshold", "resolution_D", "resolution_mm", "min_distance_D", "max_distance_D", "method")
-        return {k: getattr(self, k) for k in keys}
-
 
 class Coverage(StudyModel):
     """[coverage]: the Monte Carlo coverage curve on the target REV (section 3.2.2, eq. (5))."""

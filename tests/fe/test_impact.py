@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from peenflow.fe.impact import Options, run_impacts
+from peenflow.fe.window import ViscousSpringFaces
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import graded_box
 from peenflow.fe.model import Target
@@ -170,7 +171,7 @@ def window_errors(win, full, t):
 
 @pytest.fixture(scope="module")
 def vs55():
-    return run_impacts(coarse_target(), Material(**SAE1070), one_shot(55.0), Options(window_boundary="viscous-spring"))
+    return run_impacts(coarse_target(), Material(**SAE1070), one_shot(55.0), Options(window_faces=ViscousSpringFaces()))
 
 
 def test_window_error_small(runs, full55):

@@ -6,6 +6,7 @@ import pytest
 from peenflow.fe import solver as S
 from peenflow.fe.boundary import TIED
 from peenflow.fe.impact import Options, run_impacts
+from peenflow.fe.window import ViscousSpringFaces
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import BoxMesh, graded_axis, graded_box
 from peenflow.fe.model import Model, Target
@@ -237,7 +238,7 @@ def test_shot_beyond_the_mesh_wraps():
     assert np.abs(b.final_state.stress - sa).max() <= 1e-9 * np.abs(sa).max()
 
 
-@pytest.mark.parametrize("opts", [Options(window_boundary="viscous-spring", final_relaxation=False),
+@pytest.mark.parametrize("opts", [Options(window_faces=ViscousSpringFaces(), final_relaxation=False),
                                   Options(window_sponge=0.2, final_relaxation=False)])
 def test_seam_shot_other_window_faces(opts):
     """Viscous-spring and sponge window faces: the seam shot matches the centred one too."""

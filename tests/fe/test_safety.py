@@ -8,7 +8,7 @@ from peenflow.fe.impact import Options, run_impacts
 from peenflow.fe.johnson_cook import Material
 from peenflow.fe.mesh import graded_box
 from peenflow.fe.model import Target
-from peenflow.fe.safety import KernelInstabilityError, check_status
+from peenflow.fe.safety import KernelInstabilityError, Stop, check_status
 from peenflow.fe.shots import Shots
 
 R = 0.29e-3
@@ -33,6 +33,19 @@ def test_every_status_has_a_message(code):
     with pytest.raises(KernelInstabilityError) as err:
         check_status(code, where="impact", shot_index=3, time=1e-6)
     assert "unknown" not in str(err.value) and "shot 3" in str(err.value)
+
+
+def test_a_stop_carries_its_reason_and_pickles_whole():
+    """A stop raised on a dask worker reaches the scheduler with its reason and message."""
+    import pickle
+
+    with pytest.raises(KernelInstabilityError) as err:
+        check_status(S.ST_MAX_STEPS, where="final relaxation", time=1e-6, relaxing=True)
+    assert err.value.reason is Stop.MAX_STEPS and err.value.status == S.ST_MAX_STEPS
+    # a relaxation's stop names the relaxation's own damping and tolerance
+    assert "options.relax_damping" in str(err.value) and "options.relax_ke_fraction" in str(err.value)
+    back = pickle.loads(pickle.dumps(err.value))
+    assert str(back) == str(err.value) and back.reason is Stop.MAX_STEPS and back.where == "final relaxation"
 
 
 def test_ok_status_passes():
@@ -66,7 +79,7 @@ def test_free_flight_costs_no_steps():
                                        ("hourglass_plastic_floor", 0.0), ("window_lateral", 0.0),
                                        ("rest_ke_fraction", 0.0), ("max_steps", 0), ("threads", 0),
                                        ("relax_cg_rtol", 1.5), ("runaway_fraction", -1.0),
-                                       ("window_boundary", "absorbing"), ("relax_method", "newton")])
+                                       ("window_faces", "viscous-spring"), ("relax_method", "newton")])
 def test_bad_option_is_refused_before_any_compute(key, value):
     with pytest.raises(ValueError, match=rf"Options\.{key} = "):
         Options(**{key: value})

@@ -16,7 +16,7 @@ import xarray as xr
 import peenflow
 from peenflow.engine import DirectoryStore, TaskContext
 from peenflow.engine.interrupt import Interrupted
-from peenflow.fe.safety import _MESSAGES
+from peenflow.fe.safety import KernelInstabilityError, Stop
 from peenflow.study import load_study, validate_study
 from tasks import _kernel as K
 from tasks._rev_run import run_rev
@@ -45,13 +45,17 @@ def test_a_slow_target_impact_finishes_elastically(micro, speed):
 
 
 def test_every_kernel_stop_message_names_study_keys_not_options():
-    for what, cause, fix in _MESSAGES.values():
-        for where in ("impact during shot 3", "final relaxation"):
-            text = K.study_terms(f"peenflow.fe {where} at t = 1e-6 s: {what}. Likely cause: {cause}. "
-                                 f"What to change: {fix}.")
+    for stop in Stop:
+        for where, relaxing in (("impact", False), ("final relaxation", True)):
+            kernel = KernelInstabilityError(stop, where=where, shot_index=3 if not relaxing else None, time=1e-6,
+                                            relaxing=relaxing)
+            text = str(K.study_stop(kernel))
             assert "options." not in text and "h_fine" not in text, text
-    text = K.study_terms("peenflow.fe final relaxation: x. What to change: loosen options.rest_ke_fraction.")
+            assert text.startswith(str(kernel).split(":")[0])  # same place, same stop
+    text = str(K.study_stop(KernelInstabilityError(Stop.MAX_STEPS, where="final relaxation", relaxing=True)))
     assert "fidelity.relaxation_tolerance" in text
+    text = str(K.study_stop(KernelInstabilityError(Stop.MAX_STEPS, where="impact", shot_index=2)))
+    assert "fidelity.settle_tolerance" in text
 
 
 def _rev(micro, ctx, ladder=(3, 6)):

@@ -38,6 +38,7 @@ from threadpoolctl import threadpool_info, threadpool_limits  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parents[3]))
 
 from peenflow.fe.impact import Options, WindowValidityWarning, run_impacts  # noqa: E402
+from peenflow.fe.window import ViscousSpringFaces  # noqa: E402
 from peenflow.fe.johnson_cook import Material  # noqa: E402
 from peenflow.fe.mesh import BoxMesh, graded_axis, graded_box  # noqa: E402
 from peenflow.fe.model import Target  # noqa: E402
@@ -76,7 +77,7 @@ def cases():
         "rev_periodic": (rev("periodic", 22), stream([(0.5e-3, -0.52e-3), (0.0, 0.1e-3), (0.58e-3, 0.2e-3)],
                                                      [[0, 0, 45.0], [8.0, -3.0, 40.0], [0, 5.0, 50.0]]),
                          Options(), (2,)),
-        "rev_viscous": (rev("symmetric"), three, Options(window_boundary="viscous-spring"), ()),
+        "rev_viscous": (rev("symmetric"), three, Options(window_faces=ViscousSpringFaces()), ()),
         "rev_sponge": (rev("symmetric"), three, Options(window_sponge=0.3), ()),
         "rev_full_dynamic": (rev("symmetric", 12), stream([(20e-6, 0.0), (2e-3, 0.0)], [[0, 0, 30.0], [0, 0, 30.0]]),
                              Options(window=False, relax_method="dynamic"), ()),
